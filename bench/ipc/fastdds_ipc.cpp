@@ -1,0 +1,221 @@
+// Fast DDS side of `scancrew bench ipc`: Fast DDS 2.9, one participant, a writer and a
+// reader of a plain fixed-size type in the same process, intra-process delivery on
+// (INTRAPROCESS_FULL, the library default), data-sharing on, samples loaned on both
+// sides (loan_sample / take with loans), shared-memory transport only (no network).
+//  - same_thread: write, then take on the same thread;
+//  - cross_thread: a reader thread blocked in a WaitSet on DATA_AVAILABLE takes it.
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <memory>
+#include <thread>
+
+#include <fastdds/dds/core/condition/WaitSet.hpp>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/TopicDataType.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+
+#include "bench/ipc/ipc_bench.hpp"
+#include "bench/ipc/latency_samples.hpp"
+#include "executors/clock.hpp"
+
+namespace scancrew::bench {
+
+namespace dds = eprosima::fastdds::dds;
+namespace rtps = eprosima::fastrtps::rtps;
+
+namespace {
+
+template <size_t N>
+struct PlainBlob {
+  int64_t t0_ns;
+  uint64_t seq;
+  std::array<uint8_t, N> data;
+};
+
+// TopicDataType of a plain (memcpy-able, fixed-size) struct: what data-sharing and loans
+// require. Serialisation is a 4-byte CDR little-endian header plus the raw bytes.
+template <class T>
+class PlainType final : public dds::TopicDataType {
+ public:
+  explicit PlainType(const std::string& name) {
+    setName(name.c_str());
+    m_typeSize = static_cast<uint32_t>(sizeof(T) + 4);
+    m_isGetKeyDefined = false;
+  }
+  bool serialize(void* data, rtps::SerializedPayload_t* payload) override {
+    payload->encapsulation = CDR_LE;
+    const uint8_t header[4] = {0, 1, 0, 0};
+    std::memcpy(payload->data, header, 4);
+    std::memcpy(payload->data + 4, data, sizeof(T));
+    payload->length = static_cast<uint32_t>(sizeof(T) + 4);
+    return true;
+  }
+  bool deserialize(rtps::SerializedPayload_t* payload, void* data) override {
+    std::memcpy(data, payload->data + 4, sizeof(T));
+    return true;
+  }
+  std::function<uint32_t()> getSerializedSizeProvider(void* /*data*/) override {
+    return [] { return static_cast<uint32_t>(sizeof(T) + 4); };
+  }
+  void* createData() override { return new T(); }
+  void deleteData(void* data) override { delete static_cast<T*>(data); }
+  bool getKey(void* /*data*/, rtps::InstanceHandle_t* /*handle*/, bool /*force_md5*/) override { return false; }
+  bool is_bounded() const override { return true; }
+  bool is_plain() const override { return true; }
+  bool construct_sample(void* memory) const override {
+    new (memory) T;
+    return true;
+  }
+};
+
+template <size_t N>
+IpcResult run_case(bool cross_thread, const IpcOptions& options) {
+  using Blob = PlainBlob<N>;
+  IpcResult result{"fastdds", cross_thread ? "cross_thread" : "same_thread", N};
+
+  dds::DomainParticipantQos pqos;
+  pqos.name("scancrew_bench_ipc");
+  pqos.transport().use_builtin_transports = false;
+  auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
+  pqos.transport().user_transports.push_back(shm);
+  auto* factory = dds::DomainParticipantFactory::get_instance();
+  dds::DomainParticipant* participant = factory->create_participant(42, pqos);
+  if (participant == nullptr) {
+    result.lost = static_cast<size_t>(options.samples);
+    return result;
+  }
+  dds::TypeSupport type(new PlainType<Blob>("scancrew::bench::Blob" + std::to_string(N)));
+  type.register_type(participant);
+  dds::Topic* topic = participant->create_topic("bench_blob_" + std::to_string(N), type.get_type_name(),
+                                                dds::TOPIC_QOS_DEFAULT);
+  dds::Publisher* publisher = participant->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
+  dds::Subscriber* subscriber = participant->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
+
+  dds::DataWriterQos wqos = publisher->get_default_datawriter_qos();
+  wqos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
+  wqos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+  wqos.history().depth = 4;
+  wqos.resource_limits().max_samples = 4;
+  wqos.data_sharing().automatic();
+  wqos.publish_mode().kind = dds::SYNCHRONOUS_PUBLISH_MODE;
+  dds::DataWriter* writer = publisher->create_datawriter(topic, wqos);
+
+  dds::DataReaderQos rqos = subscriber->get_default_datareader_qos();
+  rqos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
+  rqos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+  rqos.history().depth = 4;
+  rqos.resource_limits().max_samples = 4;
+  rqos.data_sharing().automatic();
+  dds::DataReader* reader = subscriber->create_datareader(topic, rqos);
+
+  // wait for the match (local, no discovery traffic leaves the process)
+  const int64_t match_deadline = monotonic_now_ns() + 5'000'000'000;
+  dds::PublicationMatchedStatus matched;
+  while (monotonic_now_ns() < match_deadline) {
+    writer->get_publication_matched_status(matched);
+    if (matched.current_count > 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+
+  LatencySamples samples(static_cast<size_t>(options.samples));
+  std::atomic<bool> measuring{false};
+  std::atomic<uint64_t> received{0};
+  std::atomic<bool> stop{false};
+
+  // takes everything available with loans, recording latency at take time
+  const auto take_all = [&] {
+    dds::LoanableSequence<Blob> data;
+    dds::SampleInfoSeq infos;
+    size_t n = 0;
+    while (reader->take(data, infos) == ReturnCode_t::RETCODE_OK) {
+      const int64_t now = monotonic_now_ns();
+      for (dds::LoanableCollection::size_type i = 0; i < infos.length(); ++i) {
+        if (!infos[i].valid_data) continue;
+        if (measuring.load(std::memory_order_relaxed)) samples.add(now - data[i].t0_ns);
+        ++n;
+      }
+      reader->return_loan(data, infos);
+    }
+    if (n) received.fetch_add(n, std::memory_order_release);
+  };
+
+  std::thread reader_thread;
+  if (cross_thread) {
+    reader_thread = std::thread([&] {
+      dds::WaitSet waitset;
+      dds::StatusCondition& condition = reader->get_statuscondition();
+      condition.set_enabled_statuses(dds::StatusMask::data_available());
+      waitset.attach_condition(condition);
+      dds::ConditionSeq active;
+      while (!stop.load()) {
+        if (waitset.wait(active, eprosima::fastrtps::Duration_t(0, 100'000'000)) == ReturnCode_t::RETCODE_OK)
+          take_all();
+      }
+    });
+  }
+
+  const int warmup = 100;
+  for (int i = 0; i < warmup + options.samples; ++i) {
+    measuring.store(i >= warmup, std::memory_order_relaxed);
+    const uint64_t before = received.load(std::memory_order_acquire);
+    const int64_t t0 = monotonic_now_ns();
+    void* raw = nullptr;
+    if (writer->loan_sample(raw) != ReturnCode_t::RETCODE_OK) {
+      ++result.lost;
+      continue;
+    }
+    auto* blob = static_cast<Blob*>(raw);
+    blob->t0_ns = t0;
+    blob->seq = static_cast<uint64_t>(i);
+    writer->write(raw);
+    const int64_t give_up = monotonic_now_ns() + 1'000'000'000;
+    if (!cross_thread) {
+      while (received.load() == before && monotonic_now_ns() < give_up) take_all();
+    } else {
+      while (received.load(std::memory_order_acquire) == before && monotonic_now_ns() < give_up) {
+      }
+      std::this_thread::sleep_for(std::chrono::microseconds(options.gap_us));
+    }
+    if (received.load() == before) ++result.lost;
+  }
+  stop.store(true);
+  if (reader_thread.joinable()) reader_thread.join();
+
+  participant->delete_contained_entities();
+  factory->delete_participant(participant);
+  samples.summarise(result);
+  return result;
+}
+
+template <size_t N>
+void add_case(std::vector<IpcResult>& out, size_t payload, const IpcOptions& options) {
+  if (payload != N) return;
+  for (bool cross : {false, true}) out.push_back(run_case<N>(cross, options));
+}
+
+}  // namespace
+
+std::vector<IpcResult> bench_fastdds(const IpcOptions& options) {
+  std::vector<IpcResult> out;
+  for (size_t payload : options.payload_bytes) {
+    add_case<64>(out, payload, options);
+    add_case<4096>(out, payload, options);
+    add_case<(256 << 10)>(out, payload, options);
+    add_case<(1 << 20)>(out, payload, options);
+    add_case<(4 << 20)>(out, payload, options);
+    add_case<(16 << 20)>(out, payload, options);
+  }
+  return out;
+}
+
+}  // namespace scancrew::bench

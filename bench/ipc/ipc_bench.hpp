@@ -1,0 +1,35 @@
+#pragma once
+
+// `scancrew bench ipc`: publish -> callback latency for payloads from 64 B to 16 MB,
+// delivered on the publishing thread and to another thread, for scancrew's runtime and
+// for Fast DDS (intra-process, data-sharing, loans, plain type) in the same binary.
+// Method and recorded figures: docs/bench_ipc.md.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace scancrew::bench {
+
+struct IpcOptions {
+  int samples = 2000;   // measured messages per case (after warm-up)
+  bool json = false;    // one JSON object on stdout instead of a table
+  std::vector<size_t> payload_bytes = {64, 4096, 256 << 10, 1 << 20, 4 << 20, 16 << 20};
+  int gap_us = 50;      // pause between messages, so the receiver is asleep when one comes
+};
+
+struct IpcResult {
+  std::string system;  // scancrew | fastdds
+  std::string mode;    // same_thread | cross_thread
+  size_t payload_bytes = 0;
+  double p50_us = 0, p99_us = 0, max_us = 0;
+  size_t lost = 0;     // messages that never arrived (bounded wait)
+};
+
+std::vector<IpcResult> bench_scancrew(const IpcOptions& options);
+std::vector<IpcResult> bench_fastdds(const IpcOptions& options);
+
+// Runs every case and prints the table or the JSON object. Returns the exit status.
+int run_ipc_bench(const IpcOptions& options);
+
+}  // namespace scancrew::bench

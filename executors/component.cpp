@@ -1,0 +1,108 @@
+#include "executors/component.hpp"
+
+#include <algorithm>
+
+namespace scancrew {
+
+std::string_view to_string(LifecycleState state) {
+  switch (state) {
+    case LifecycleState::kUnconfigured:
+      return "unconfigured";
+    case LifecycleState::kInactive:
+      return "inactive";
+    case LifecycleState::kActive:
+      return "active";
+    case LifecycleState::kFinalized:
+      return "finalized";
+  }
+  return "?";
+}
+
+std::string_view to_string(CallbackGroup::Type type) {
+  return type == CallbackGroup::Type::kReentrant ? "reentrant" : "mutually_exclusive";
+}
+
+Component::Component(ComponentContext context) : context_(std::move(context)) {
+  SCANCREW_CHECK(context_.graph != nullptr, "a component needs a graph");
+  if (!context_.callback_group)
+    context_.callback_group = std::make_shared<CallbackGroup>(
+        context_.name, CallbackGroup::Type::kMutuallyExclusive);
+  qualified_name_ = (context_.ns.empty() ? "" : "/" + context_.ns) + "/" + context_.name;
+}
+
+Component::~Component() = default;
+
+static Result<void, std::string> bad_transition(const std::string& who, std::string_view what,
+                                                LifecycleState from) {
+  return make_unexpected(who + ": cannot " + std::string(what) + " from state '" +
+                         std::string(to_string(from)) + "'");
+}
+
+Result<void, std::string> Component::configure() {
+  if (state_ != LifecycleState::kUnconfigured) return bad_transition(qualified_name_, "configure", state_);
+  auto result = on_configure();
+  if (!result) errors_.push_back(qualified_name_ + ": " + result.error());
+  if (!errors_.empty()) {
+    std::string all;
+    for (const auto& e : errors_) all += (all.empty() ? "" : "\n") + e;
+    return make_unexpected(all);
+  }
+  state_ = LifecycleState::kInactive;
+  return {};
+}
+
+Result<void, std::string> Component::activate() {
+  if (state_ != LifecycleState::kInactive) return bad_transition(qualified_name_, "activate", state_);
+  for (Timer* t : timers_) t->reset();
+  on_activate();
+  state_ = LifecycleState::kActive;
+  active_.store(true, std::memory_order_release);
+  return {};
+}
+
+Result<void, std::string> Component::deactivate() {
+  if (state_ != LifecycleState::kActive) return bad_transition(qualified_name_, "deactivate", state_);
+  active_.store(false, std::memory_order_release);
+  on_deactivate();
+  state_ = LifecycleState::kInactive;
+  return {};
+}
+
+Result<void, std::string> Component::shutdown() {
+  if (state_ == LifecycleState::kFinalized) return bad_transition(qualified_name_, "shutdown", state_);
+  if (state_ == LifecycleState::kActive) (void)deactivate();
+  on_shutdown();
+  state_ = LifecycleState::kFinalized;
+  return {};
+}
+
+std::string Component::resolve(std::string_view port) const {
+  std::string name(port);
+  if (auto it = context_.remaps.find(name); it != context_.remaps.end()) name = it->second;
+  if (!name.empty() && name.front() == '/') return name;
+  return (context_.ns.empty() ? "" : "/" + context_.ns) + "/" + name;
+}
+
+std::optional<PortQos> Component::port_qos(std::string_view port) const {
+  auto it = context_.qos.find(std::string(port));
+  if (it == context_.qos.end()) return std::nullopt;
+  return it->second;
+}
+
+void Component::note_port(std::string_view port, const std::string& topic, std::string_view type,
+                          EndpointInfo::Kind kind) {
+  ports_.emplace_back(port);
+  context_.graph->record({kind, qualified_name_, std::string(port), topic, std::string(type)});
+}
+
+Timer* Component::create_timer(std::chrono::nanoseconds period, Timer::Callback callback) {
+  auto timer = std::make_unique<Timer>(clock(), period.count(), std::move(callback),
+                                       *context_.callback_group, &active_);
+  Timer* raw = timer.get();
+  owned_.push_back(std::move(timer));
+  executables_.push_back(raw);
+  timers_.push_back(raw);
+  return raw;
+}
+
+}  // namespace scancrew

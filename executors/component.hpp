@@ -1,0 +1,145 @@
+#pragma once
+
+// Component: the base class of everything in a robot graph (rclcpp's lifecycle node,
+// without the service plumbing).
+//
+// Lifecycle: unconfigured --configure--> inactive --activate--> active
+//            active --deactivate--> inactive;  any --shutdown--> finalized.
+// on_configure() creates the endpoints and timers (nothing runs yet); while inactive,
+// no callback of the component runs and its publishers refuse to publish
+// (PublishError::kInactive); incoming samples wait in their bounded queues.
+//
+// Each component has a typed Config (a plain struct with defaults and units) read by
+// its static read_config(ParamReader&) at launch; algorithms never see YAML.
+//
+// Thread safety: lifecycle transitions are made by one thread (the launcher) while no
+// executor is spinning the component's executables, or with the executor running (the
+// active flag is atomic). Endpoints are created in on_configure() only.
+
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "executors/graph.hpp"
+#include "executors/publisher.hpp"
+#include "executors/subscription.hpp"
+#include "executors/timer.hpp"
+
+namespace scancrew {
+
+// Per-port QoS set in the launch file (missing fields keep the code's choice).
+struct PortQos {
+  std::optional<size_t> pool_size;
+  std::optional<size_t> depth;
+  std::optional<History> history;
+};
+
+struct ComponentContext {
+  Graph* graph = nullptr;
+  std::string name;       // instance name, e.g. "stereo"
+  std::string ns;         // namespace, e.g. "robot1" ("" = root)
+  uint32_t robot_id = 0;
+  std::map<std::string, std::string> remaps;  // port -> topic name (relative or absolute)
+  std::map<std::string, PortQos> qos;         // port -> QoS overrides
+  std::shared_ptr<CallbackGroup> callback_group;  // default group of the component
+};
+
+enum class LifecycleState { kUnconfigured, kInactive, kActive, kFinalized };
+std::string_view to_string(LifecycleState state);
+
+class Component {
+ public:
+  explicit Component(ComponentContext context);
+  virtual ~Component();
+  Component(const Component&) = delete;
+  Component& operator=(const Component&) = delete;
+
+  // Transitions. An invalid transition or a failing hook returns a message.
+  Result<void, std::string> configure();
+  Result<void, std::string> activate();
+  Result<void, std::string> deactivate();
+  Result<void, std::string> shutdown();
+  LifecycleState state() const { return state_; }
+
+  // "/robot1/stereo" (or "/stereo" at the root).
+  const std::string& qualified_name() const { return qualified_name_; }
+  uint32_t robot_id() const { return context_.robot_id; }
+  // The executables to hand to an executor after configure().
+  const std::vector<Executable*>& executables() const { return executables_; }
+  // The port names the component used (for remap validation).
+  const std::vector<std::string>& ports() const { return ports_; }
+
+  // Resolves a port to its topic: remap if any, then the namespace for relative names.
+  std::string resolve(std::string_view port) const;
+
+ protected:
+  // Create endpoints and timers here. Return an error message to fail configuration.
+  virtual Result<void, std::string> on_configure() = 0;
+  virtual void on_activate() {}
+  virtual void on_deactivate() {}
+  virtual void on_shutdown() {}
+
+  template <Message T>
+  Publisher<T> create_publisher(std::string_view port, PublisherQos qos = {}) {
+    const std::string topic_name = resolve(port);
+    if (auto o = port_qos(port); o && o->pool_size) qos.pool_size = *o->pool_size;
+    note_port(port, topic_name, T::kTypeName, EndpointInfo::Kind::kPublisher);
+    auto topic = context_.graph->topic<T>(topic_name, qos.pool_size);
+    if (!topic) {
+      errors_.push_back(qualified_name_ + "." + std::string(port) + ": " + topic.error());
+      return {};
+    }
+    return Publisher<T>(std::move(topic).value(), context_.robot_id, &context_.graph->clock(), &active_);
+  }
+
+  // The subscription lives as long as the component; null when the topic has another
+  // type (configure() then fails with the reason).
+  template <Message T>
+  Subscription<T>* create_subscription(std::string_view port, SubscriptionQos qos,
+                                       typename Subscription<T>::Callback callback) {
+    const std::string topic_name = resolve(port);
+    if (auto o = port_qos(port)) {
+      if (o->depth) qos.depth = *o->depth;
+      if (o->history) qos.history = *o->history;
+    }
+    note_port(port, topic_name, T::kTypeName, EndpointInfo::Kind::kSubscription);
+    auto topic = context_.graph->topic<T>(topic_name, PublisherQos{}.pool_size);
+    if (!topic) {
+      errors_.push_back(qualified_name_ + "." + std::string(port) + ": " + topic.error());
+      return nullptr;
+    }
+    auto sub = std::make_unique<Subscription<T>>(std::move(topic).value(), qos, std::move(callback),
+                                                 *context_.callback_group, &active_);
+    Subscription<T>* raw = sub.get();
+    owned_.push_back(std::move(sub));
+    executables_.push_back(raw);
+    return raw;
+  }
+
+  // A timer on the graph's clock (wall or sim), firing every period while active.
+  Timer* create_timer(std::chrono::nanoseconds period, Timer::Callback callback);
+
+  Clock& clock() { return context_.graph->clock(); }
+  Graph& graph() { return *context_.graph; }
+
+ private:
+  std::optional<PortQos> port_qos(std::string_view port) const;
+  void note_port(std::string_view port, const std::string& topic, std::string_view type,
+                 EndpointInfo::Kind kind);
+
+  ComponentContext context_;
+  std::string qualified_name_;
+  LifecycleState state_ = LifecycleState::kUnconfigured;
+  std::atomic<bool> active_{false};
+  std::vector<std::unique_ptr<Executable>> owned_;
+  std::vector<Executable*> executables_;
+  std::vector<Timer*> timers_;
+  std::vector<std::string> ports_;
+  std::vector<std::string> errors_;
+};
+
+}  // namespace scancrew

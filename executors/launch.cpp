@@ -1,0 +1,432 @@
+#include "executors/launch.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "executors/params_impl.hpp"
+#include "executors/registry.hpp"
+
+namespace scancrew {
+
+namespace {
+
+struct RobotSpec {
+  uint32_t id = 0;
+  std::string ns;
+};
+
+struct ComponentSpec {
+  std::string name, type;
+  bool per_robot = true;
+  std::string group_name;  // empty: a group of its own
+  CallbackGroup::Type group_type = CallbackGroup::Type::kMutuallyExclusive;
+  YAML::Node params;
+  std::string path;  // "components[i]"
+  std::map<std::string, std::string> remaps;
+  std::map<std::string, PortQos> qos;
+};
+
+bool is_map_or_absent(const YAML::Node& n) { return !n.IsDefined() || n.IsNull() || n.IsMap(); }
+
+}  // namespace
+
+// Reads a launch file into a Launch; collects every error it finds.
+class LaunchBuilder {
+ public:
+  explicit LaunchBuilder(std::string file) : file_(std::move(file)) {}
+
+  Result<std::unique_ptr<Launch>, Launch::Errors> build(const YAML::Node& root) {
+    if (!root.IsMap()) return fail(file_ + ": a launch file is a mapping (clock, executor, run, robots, components)");
+    auto launch = std::unique_ptr<Launch>(new Launch());
+    read_settings(root, launch->settings_);
+    read_robots(root["robots"]);
+    read_components(root["components"]);
+    if (!errors_.empty()) return make_unexpected(errors_);
+    compose(*launch);
+    if (!errors_.empty()) return make_unexpected(errors_);
+    return launch;
+  }
+
+  Result<std::unique_ptr<Launch>, Launch::Errors> fail(std::string message) {
+    errors_.push_back(std::move(message));
+    return make_unexpected(errors_);
+  }
+
+ private:
+  void merge(const ParamReader& reader) {
+    errors_.insert(errors_.end(), reader.errors().begin(), reader.errors().end());
+  }
+
+  void read_settings(const YAML::Node& root, LaunchSettings& s) {
+    ParamReader top = make_param_reader(root, file_, "(top level)");
+    std::string clock = "wall";
+    top.choice("clock", clock, {"wall", "sim"});
+    s.clock = clock == "sim" ? ClockType::kSim : ClockType::kWall;
+    // the sections below are read on their own; mark them known to the top level
+    for (const char* section : {"executor", "run", "robots", "components"}) {
+      if (root[section].IsDefined() && root[section].IsScalar())
+        errors_.push_back(yaml_location(file_, root[section]) + ": " + section + ": must be a " +
+                          (std::string(section) == "robots" || std::string(section) == "components" ? "list" : "mapping"));
+      top_known_.insert(section);
+    }
+    for (const auto& kv : root)
+      if (kv.first.Scalar() != "clock" && !top_known_.count(kv.first.Scalar()))
+        errors_.push_back(yaml_location(file_, kv.first) + ": " + kv.first.Scalar() +
+                          ": unknown key; allowed: clock, executor, run, robots, components");
+    merge(top);
+
+    ParamReader exec = make_param_reader(root["executor"], file_, "executor");
+    std::string type = "single_threaded";
+    exec.choice("type", type, {"single_threaded", "multi_threaded", "step"});
+    uint64_t threads = 2;
+    exec.optional("threads", threads, {1, 64});
+    exec.finish();
+    merge(exec);
+    s.executor = type == "step"              ? LaunchSettings::ExecutorType::kStep
+                 : type == "multi_threaded" ? LaunchSettings::ExecutorType::kMultiThreaded
+                                            : LaunchSettings::ExecutorType::kSingleThreaded;
+    s.threads = s.executor == LaunchSettings::ExecutorType::kMultiThreaded ? threads : 1;
+    if (s.executor == LaunchSettings::ExecutorType::kStep && s.clock != ClockType::kSim)
+      errors_.push_back(yaml_location(file_, root["executor"]) +
+                        ": executor.type: 'step' runs on sim time; allowed with clock: sim only");
+
+    ParamReader run = make_param_reader(root["run"], file_, "run");
+    run.optional("duration_s", s.duration_s, {0, 1e7});
+    run.optional("sim_step_s", s.sim_step_s, {1e-6, 10});
+    run.optional("real_time_factor", s.real_time_factor, {0, 1e6});
+    run.optional("progress_period_s", s.progress_period_s, {0.01, 3600});
+    run.finish();
+    merge(run);
+  }
+
+  void read_robots(const YAML::Node& node) {
+    if (!node.IsDefined() || node.IsNull()) {
+      robots_.push_back({0, ""});
+      return;
+    }
+    if (!node.IsSequence() || node.size() == 0) {
+      errors_.push_back(yaml_location(file_, node) + ": robots: must be a non-empty list of {id, namespace}");
+      return;
+    }
+    std::set<uint32_t> ids;
+    std::set<std::string> names;
+    for (size_t i = 0; i < node.size(); ++i) {
+      const std::string path = "robots[" + std::to_string(i) + "]";
+      ParamReader r = make_param_reader(node[i], file_, path);
+      RobotSpec robot;
+      r.required("id", robot.id, {0, 1e6});
+      r.required("namespace", robot.ns);
+      r.finish();
+      merge(r);
+      if (!r.ok()) continue;
+      if (!valid_name(robot.ns))
+        errors_.push_back(yaml_location(file_, node[i]) + ": " + path + ".namespace: '" + robot.ns +
+                          "' is not a name; allowed: letters, digits, '_'");
+      if (!ids.insert(robot.id).second)
+        errors_.push_back(yaml_location(file_, node[i]) + ": " + path + ".id: " + std::to_string(robot.id) + " is used twice");
+      if (!names.insert(robot.ns).second)
+        errors_.push_back(yaml_location(file_, node[i]) + ": " + path + ".namespace: '" + robot.ns + "' is used twice");
+      robots_.push_back(robot);
+    }
+  }
+
+  static bool valid_name(const std::string& s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+  }
+
+  void read_components(const YAML::Node& node) {
+    if (!node.IsDefined() || !node.IsSequence() || node.size() == 0) {
+      errors_.push_back(yaml_location(file_, node) + ": components: must be a non-empty list");
+      return;
+    }
+    const auto& registry = ComponentRegistry::instance();
+    for (size_t i = 0; i < node.size(); ++i) {
+      ComponentSpec spec;
+      spec.path = "components[" + std::to_string(i) + "]";
+      const YAML::Node& c = node[i];
+      ParamReader r = make_param_reader(c, file_, spec.path);
+      r.required("name", spec.name);
+      r.required("type", spec.type);
+      r.optional("per_robot", spec.per_robot);
+      known_subkeys(c, spec.path, {"name", "type", "per_robot", "params", "remap", "qos", "callback_group"});
+      merge(r);
+      if (!r.ok()) continue;
+      if (!valid_name(spec.name))
+        errors_.push_back(yaml_location(file_, c["name"]) + ": " + spec.path + ".name: '" + spec.name +
+                          "' is not a name; allowed: letters, digits, '_'");
+      if (registry.find(spec.type) == nullptr) {
+        std::string known;
+        for (const auto& t : registry.types()) known += (known.empty() ? "" : ", ") + t;
+        errors_.push_back(yaml_location(file_, c["type"]) + ": " + spec.path + ".type: unknown component '" +
+                          spec.type + "'; registered: " + known);
+      }
+      if (!is_map_or_absent(c["params"]))
+        errors_.push_back(yaml_location(file_, c["params"]) + ": " + spec.path + ".params: must be a mapping");
+      spec.params = c["params"];
+      read_group(c["callback_group"], spec);
+      read_remaps(c["remap"], spec);
+      read_qos(c["qos"], spec);
+      specs_.push_back(std::move(spec));
+    }
+  }
+
+  void known_subkeys(const YAML::Node& c, const std::string& path, std::initializer_list<std::string_view> allowed) {
+    if (!c.IsMap()) return;
+    for (const auto& kv : c) {
+      const std::string key = kv.first.Scalar();
+      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+      std::string list;
+      for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+      errors_.push_back(yaml_location(file_, kv.first) + ": " + path + "." + key + ": unknown key; allowed: " + list);
+    }
+  }
+
+  void read_group(const YAML::Node& node, ComponentSpec& spec) {
+    if (!node.IsDefined() || node.IsNull()) return;
+    ParamReader r = make_param_reader(node, file_, spec.path + ".callback_group");
+    r.required("name", spec.group_name);
+    std::string type = "mutually_exclusive";
+    r.choice("type", type, {"mutually_exclusive", "reentrant"});
+    r.finish();
+    merge(r);
+    spec.group_type = type == "reentrant" ? CallbackGroup::Type::kReentrant : CallbackGroup::Type::kMutuallyExclusive;
+  }
+
+  void read_remaps(const YAML::Node& node, ComponentSpec& spec) {
+    if (!node.IsDefined() || node.IsNull()) return;
+    if (!node.IsMap()) {
+      errors_.push_back(yaml_location(file_, node) + ": " + spec.path + ".remap: must be a mapping port: topic");
+      return;
+    }
+    for (const auto& kv : node) {
+      const std::string port = kv.first.Scalar();
+      if (!kv.second.IsScalar() || kv.second.Scalar().empty() || kv.second.Scalar() == "/") {
+        errors_.push_back(yaml_location(file_, kv.first) + ": " + spec.path + ".remap." + port +
+                          ": remap to nothing; allowed: a topic name, relative (ns/name) or absolute (/name)");
+        continue;
+      }
+      spec.remaps[port] = kv.second.Scalar();
+    }
+  }
+
+  void read_qos(const YAML::Node& node, ComponentSpec& spec) {
+    if (!node.IsDefined() || node.IsNull()) return;
+    if (!node.IsMap()) {
+      errors_.push_back(yaml_location(file_, node) + ": " + spec.path + ".qos: must be a mapping port: {pool_size, depth, history}");
+      return;
+    }
+    for (const auto& kv : node) {
+      const std::string port = kv.first.Scalar();
+      ParamReader r = make_param_reader(kv.second, file_, spec.path + ".qos." + port);
+      PortQos q;
+      uint64_t pool = 0, depth = 0;
+      std::string history;
+      r.optional("pool_size", pool, {1, 1e6});
+      r.optional("depth", depth, {1, 1e6});
+      if (kv.second.IsMap() && kv.second["history"].IsDefined()) {
+        history = "keep_last";
+        r.choice("history", history, {"keep_last", "fail_fast"});
+      }
+      r.finish();
+      merge(r);
+      if (pool) q.pool_size = pool;
+      if (depth) q.depth = depth;
+      if (!history.empty()) q.history = history == "fail_fast" ? History::kFailFast : History::kKeepLast;
+      spec.qos[port] = q;
+    }
+  }
+
+  void compose(Launch& launch) {
+    const LaunchSettings& s = launch.settings_;
+    if (s.clock == ClockType::kSim) launch.clock_ = std::make_shared<SimClock>();
+    else launch.clock_ = std::make_shared<WallClock>();
+    launch.graph_ = std::make_unique<Graph>(launch.clock_);
+    std::map<std::string, std::shared_ptr<CallbackGroup>> groups;
+
+    // create every instance (parameter errors are collected, nothing is configured yet)
+    struct Pending {
+      const ComponentSpec* spec;
+      std::unique_ptr<Component> component;
+    };
+    std::vector<Pending> created;
+    const auto& registry = ComponentRegistry::instance();
+    for (const ComponentSpec& spec : specs_) {
+      const std::vector<RobotSpec> owners = spec.per_robot ? robots_ : std::vector<RobotSpec>{{0, ""}};
+      bool params_reported = false;
+      for (const RobotSpec& robot : owners) {
+        ComponentContext ctx;
+        ctx.graph = launch.graph_.get();
+        ctx.name = spec.name;
+        ctx.ns = robot.ns;
+        ctx.robot_id = robot.id;
+        ctx.remaps = spec.remaps;
+        ctx.qos = spec.qos;
+        const std::string group_key = robot.ns + "/" + (spec.group_name.empty() ? spec.name : spec.group_name);
+        auto& group = groups[group_key];
+        if (!group) group = std::make_shared<CallbackGroup>(group_key, spec.group_type);
+        ctx.callback_group = group;
+        ParamReader params = make_param_reader(spec.params, file_, spec.path + ".params");
+        auto made = registry.find(spec.type)->factory(std::move(ctx), params);
+        if (!made) {
+          // the same parameters go to every robot: report them once
+          if (!params_reported) errors_.insert(errors_.end(), made.error().begin(), made.error().end());
+          params_reported = true;
+          continue;
+        }
+        created.push_back({&spec, std::move(made).value()});
+      }
+    }
+    for (auto& [key, group] : groups) launch.groups_.push_back(group);
+    if (!errors_.empty()) return;
+
+    // configure: endpoints are created, types checked; nothing runs yet
+    for (auto& p : created) {
+      auto configured = p.component->configure();
+      if (!configured) errors_.push_back(file_ + ": " + p.spec->path + ": " + configured.error());
+      for (const auto& [port, topic] : p.spec->remaps) {
+        const auto& ports = p.component->ports();
+        if (std::find(ports.begin(), ports.end(), port) != ports.end()) continue;
+        std::string list;
+        for (const auto& q : ports) list += (list.empty() ? "" : ", ") + q;
+        errors_.push_back(file_ + ": " + p.spec->path + ".remap." + port + ": component '" + p.spec->type +
+                          "' has no port '" + port + "'; its ports: " + (list.empty() ? "(none)" : list));
+      }
+    }
+    // a remap error is reported once per spec, not once per robot
+    std::sort(errors_.begin(), errors_.end());
+    errors_.erase(std::unique(errors_.begin(), errors_.end()), errors_.end());
+    for (const std::string& e : launch.graph_->check().errors) errors_.push_back(file_ + ": " + e);
+    if (!errors_.empty()) return;
+
+    for (auto& p : created) launch.components_.push_back(std::move(p.component));
+    if (s.executor == LaunchSettings::ExecutorType::kStep) {
+      launch.step_executor_ = std::make_unique<StepExecutor>(static_cast<SimClock&>(*launch.clock_));
+      for (auto& c : launch.components_)
+        for (Executable* e : c->executables()) launch.step_executor_->add(*e);
+    } else {
+      launch.executor_ = std::make_unique<Executor>(s.threads);
+      for (auto& c : launch.components_)
+        for (Executable* e : c->executables()) launch.executor_->add(*e);
+    }
+  }
+
+  std::string file_;
+  std::vector<std::string> errors_;
+  std::set<std::string> top_known_;
+  std::vector<RobotSpec> robots_;
+  std::vector<ComponentSpec> specs_;
+};
+
+Result<std::unique_ptr<Launch>, Launch::Errors> Launch::from_string(const std::string& text,
+                                                                    const std::string& label) {
+  LaunchBuilder builder(label);
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    return builder.fail(label + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+  }
+  return builder.build(root);
+}
+
+Result<std::unique_ptr<Launch>, Launch::Errors> Launch::from_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return make_unexpected(Errors{path + ": cannot open the launch file"});
+  std::stringstream text;
+  text << in.rdbuf();
+  return from_string(text.str(), path);
+}
+
+Launch::~Launch() {
+  deactivate_all();
+  for (auto& c : components_) {
+    for (Executable* e : c->executables()) {
+      if (executor_) executor_->remove(*e);
+      if (step_executor_) step_executor_->remove(*e);
+    }
+    (void)c->shutdown();
+  }
+  // components (and their endpoints) go before the graph that owns the topics
+  components_.clear();
+}
+
+void Launch::activate_all() {
+  for (auto& c : components_)
+    if (c->state() == LifecycleState::kInactive) (void)c->activate();
+}
+
+void Launch::deactivate_all() {
+  for (auto& c : components_)
+    if (c->state() == LifecycleState::kActive) (void)c->deactivate();
+}
+
+double Launch::run(const Progress& progress) {
+  stop_requested_.store(false);
+  activate_all();
+  const double ran = step_executor_ ? run_stepped(progress) : run_threaded(progress);
+  deactivate_all();
+  if (progress) progress(ran, settings_.duration_s);
+  return ran;
+}
+
+double Launch::run_stepped(const Progress& progress) {
+  const auto step_ns = static_cast<int64_t>(settings_.sim_step_s * 1e9);
+  const auto end_ns = static_cast<int64_t>(settings_.duration_s * 1e9);
+  const auto period_ns = static_cast<int64_t>(settings_.progress_period_s * 1e9);
+  SimClock& clock = step_executor_->clock();
+  const int64_t start = clock.now_ns();
+  int64_t next_report = start + period_ns;
+  while (!stop_requested_.load() && (end_ns == 0 || clock.now_ns() - start < end_ns)) {
+    int64_t target = clock.now_ns() + step_ns;
+    if (end_ns != 0) target = std::min(target, start + end_ns);
+    step_executor_->run_until(target);
+    if (progress && clock.now_ns() >= next_report) {
+      progress(static_cast<double>(clock.now_ns() - start) * 1e-9, settings_.duration_s);
+      next_report += period_ns;
+    }
+  }
+  return static_cast<double>(clock.now_ns() - start) * 1e-9;
+}
+
+double Launch::run_threaded(const Progress& progress) {
+  std::thread spinner([this] { executor_->spin(); });
+  const auto wall_start = std::chrono::steady_clock::now();
+  const auto elapsed_wall = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  };
+  auto* sim = settings_.clock == ClockType::kSim ? static_cast<SimClock*>(clock_.get()) : nullptr;
+  const int64_t sim_start = sim ? sim->now_ns() : 0;
+  const auto elapsed = [&] {
+    return sim ? static_cast<double>(sim->now_ns() - sim_start) * 1e-9 : elapsed_wall();
+  };
+  double next_report = settings_.progress_period_s;
+  while (!stop_requested_.load() && (settings_.duration_s == 0 || elapsed() < settings_.duration_s)) {
+    if (sim) {
+      // free-running sim time, paced to the real-time factor (0: as fast as possible)
+      const int64_t step_ns = static_cast<int64_t>(settings_.sim_step_s * 1e9);
+      sim->advance_to(sim->now_ns() + step_ns);
+      if (settings_.real_time_factor > 0) {
+        const double due_wall = elapsed() / settings_.real_time_factor;
+        const double ahead = due_wall - elapsed_wall();
+        if (ahead > 0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
+      }
+    } else {
+      // wall time: the executor threads do the work; this thread only watches the clock
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (progress && elapsed() >= next_report) {
+      progress(elapsed(), settings_.duration_s);
+      next_report += settings_.progress_period_s;
+    }
+  }
+  executor_->stop();
+  spinner.join();
+  return elapsed();
+}
+
+}  // namespace scancrew

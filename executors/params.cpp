@@ -1,0 +1,217 @@
+#include "executors/params.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+
+#include "executors/params_impl.hpp"
+
+namespace scancrew {
+
+std::string yaml_location(const std::string& file, const YAML::Node& node) {
+  if (!node.IsDefined() || node.Mark().line < 0) return file;
+  return file + ":" + std::to_string(node.Mark().line + 1);
+}
+
+ParamReader make_param_reader(const YAML::Node& node, const std::string& file, const std::string& path) {
+  auto impl = std::make_unique<ParamReader::Impl>();
+  impl->node = node;
+  impl->file = file;
+  impl->path = path;
+  return ParamReader(std::move(impl));
+}
+
+ParamReader::ParamReader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {
+  if (impl_->node.IsDefined() && !impl_->node.IsNull() && !impl_->node.IsMap())
+    errors_.push_back(where() + ": must be a mapping of key: value");
+}
+ParamReader::~ParamReader() = default;
+ParamReader::ParamReader(ParamReader&&) noexcept = default;
+ParamReader& ParamReader::operator=(ParamReader&&) noexcept = default;
+
+ParamReader ParamReader::from_yaml_string(const std::string& text, const std::string& where) {
+  try {
+    return make_param_reader(YAML::Load(text), where, "params");
+  } catch (const YAML::Exception& e) {
+    ParamReader reader = make_param_reader(YAML::Node(), where, "params");
+    reader.errors_.push_back(where + ": not valid YAML: " + e.what());
+    return reader;
+  }
+}
+
+std::string ParamReader::where() const { return yaml_location(impl_->file, impl_->node) + ": " + impl_->path; }
+
+void ParamReader::error(std::string_view key, const std::string& message) {
+  const YAML::Node& node = impl_->node;
+  YAML::Node at = node.IsMap() ? node[std::string(key)] : YAML::Node();
+  errors_.push_back(yaml_location(impl_->file, at.IsDefined() ? at : node) + ": " + impl_->path + "." +
+                    std::string(key) + ": " + message);
+}
+
+namespace {
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+std::string describe_range(const char* kind, Range r) {
+  std::string s = kind;
+  const bool lo = std::isfinite(r.min), hi = std::isfinite(r.max);
+  if (lo && hi) s += " in [" + format_number(r.min) + ", " + format_number(r.max) + "]";
+  else if (lo) s += " >= " + format_number(r.min);
+  else if (hi) s += " <= " + format_number(r.max);
+  return s;
+}
+
+template <class T>
+constexpr const char* kind_name() {
+  if constexpr (std::is_same_v<T, bool>) return "true or false";
+  else if constexpr (std::is_same_v<T, std::string>) return "a string";
+  else if constexpr (std::is_floating_point_v<T>) return "a number";
+  else if constexpr (std::is_unsigned_v<T>) return "a non-negative integer";
+  else return "an integer";
+}
+
+template <class T>
+Range clamp_range(Range r) {
+  if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    r.min = std::max(r.min, static_cast<double>(std::numeric_limits<T>::lowest()));
+    r.max = std::min(r.max, static_cast<double>(std::numeric_limits<T>::max()));
+  }
+  return r;
+}
+
+// Parses a scalar strictly: "3.5" is not an integer, "yes" is not a number.
+template <class T>
+bool parse_scalar(const std::string& text, T& out) {
+  if constexpr (std::is_same_v<T, std::string>) {
+    out = text;
+    return true;
+  } else if constexpr (std::is_same_v<T, bool>) {
+    if (text == "true" || text == "True" || text == "TRUE") return out = true, true;
+    if (text == "false" || text == "False" || text == "FALSE") return out = false, true;
+    return false;
+  } else {
+    std::istringstream s(text);
+    s.imbue(std::locale::classic());
+    if constexpr (std::is_floating_point_v<T>) {
+      double v = 0;
+      if (!(s >> v) || !s.eof() || !std::isfinite(v)) return false;
+      out = static_cast<T>(v);
+    } else {
+      long double v = 0;
+      if (!(s >> v) || !s.eof() || v != std::floor(v)) return false;
+      if (v < static_cast<long double>(std::numeric_limits<T>::lowest()) ||
+          v > static_cast<long double>(std::numeric_limits<T>::max()))
+        return false;
+      out = static_cast<T>(v);
+    }
+    return true;
+  }
+}
+
+}  // namespace
+
+template <class T>
+void ParamReader::read(std::string_view key, T& value, Range range, bool is_required) {
+  asked_.emplace_back(key);
+  const Range r = clamp_range<T>(range);
+  const std::string allowed = std::is_arithmetic_v<T> && !std::is_same_v<T, bool>
+                                  ? describe_range(kind_name<T>(), r)
+                                  : std::string(kind_name<T>());
+  const YAML::Node& node = impl_->node;
+  const YAML::Node item = node.IsMap() ? node[std::string(key)] : YAML::Node();
+  if (!item.IsDefined() || item.IsNull()) {
+    if (is_required) error(key, "missing required parameter; allowed: " + allowed);
+    return;
+  }
+  T parsed{};
+  if (!item.IsScalar() || !parse_scalar(item.Scalar(), parsed)) {
+    const std::string shown = item.IsScalar() ? "'" + item.Scalar() + "'" : std::string("a list or mapping");
+    error(key, shown + " has the wrong type; allowed: " + allowed);
+    return;
+  }
+  if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+    const auto v = static_cast<double>(parsed);
+    if (v < r.min || v > r.max) {
+      error(key, item.Scalar() + " is out of range; allowed: " + allowed);
+      return;
+    }
+  }
+  value = parsed;
+}
+
+template <class T>
+void ParamReader::optional(std::string_view key, T& value, Range range) {
+  read(key, value, range, false);
+}
+template <class T>
+void ParamReader::required(std::string_view key, T& value, Range range) {
+  read(key, value, range, true);
+}
+
+#define SCANCREW_PARAM_TYPE(T)                                              \
+  template void ParamReader::optional<T>(std::string_view, T&, Range);     \
+  template void ParamReader::required<T>(std::string_view, T&, Range);
+SCANCREW_PARAM_TYPE(double)
+SCANCREW_PARAM_TYPE(int)
+SCANCREW_PARAM_TYPE(int64_t)
+SCANCREW_PARAM_TYPE(uint32_t)
+SCANCREW_PARAM_TYPE(uint64_t)
+SCANCREW_PARAM_TYPE(bool)
+SCANCREW_PARAM_TYPE(std::string)
+#undef SCANCREW_PARAM_TYPE
+
+void ParamReader::choice(std::string_view key, std::string& value,
+                         std::initializer_list<std::string_view> allowed, bool is_required) {
+  std::string picked = value;
+  read(key, picked, {}, is_required);
+  std::string list;
+  for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+  if (std::find(allowed.begin(), allowed.end(), picked) == allowed.end()) {
+    error(key, "'" + picked + "' is not allowed; allowed: " + list);
+    return;
+  }
+  value = picked;
+}
+
+void ParamReader::optional_list(std::string_view key, std::vector<double>& value, size_t size, Range range) {
+  asked_.emplace_back(key);
+  const YAML::Node& node = impl_->node;
+  const YAML::Node item = node.IsMap() ? node[std::string(key)] : YAML::Node();
+  if (!item.IsDefined() || item.IsNull()) return;
+  const std::string allowed = (size ? "a list of " + std::to_string(size) + " " : std::string("a list of ")) +
+                              describe_range("numbers", range);
+  if (!item.IsSequence() || (size != 0 && item.size() != size)) {
+    error(key, "wrong shape; allowed: " + allowed);
+    return;
+  }
+  std::vector<double> parsed;
+  for (const auto& element : item) {
+    double v = 0;
+    if (!element.IsScalar() || !parse_scalar(element.Scalar(), v) || v < range.min || v > range.max) {
+      error(key, "element '" + (element.IsScalar() ? element.Scalar() : "?") + "' is invalid; allowed: " + allowed);
+      return;
+    }
+    parsed.push_back(v);
+  }
+  value = std::move(parsed);
+}
+
+void ParamReader::finish() {
+  const YAML::Node& node = impl_->node;
+  if (!node.IsMap()) return;
+  for (const auto& kv : node) {
+    const std::string key = kv.first.Scalar();
+    if (std::find(asked_.begin(), asked_.end(), key) != asked_.end()) continue;
+    std::string known;
+    for (const auto& a : asked_) known += (known.empty() ? "" : ", ") + a;
+    errors_.push_back(yaml_location(impl_->file, kv.first) + ": " + impl_->path + "." + key +
+                      ": unknown parameter; known: " + (known.empty() ? "(none)" : known));
+  }
+}
+
+}  // namespace scancrew

@@ -1,0 +1,29 @@
+#include "executors/registry.hpp"
+
+#include "executors/check.hpp"
+
+namespace scancrew {
+
+ComponentRegistry& ComponentRegistry::instance() {
+  static ComponentRegistry registry;
+  return registry;
+}
+
+bool ComponentRegistry::add(const std::string& type, Factory factory, std::string description) {
+  const bool inserted = entries_.emplace(type, Entry{std::move(factory), std::move(description)}).second;
+  SCANCREW_CHECK(inserted, "two components registered under one name");
+  return inserted;
+}
+
+const ComponentRegistry::Entry* ComponentRegistry::find(const std::string& type) const {
+  auto it = entries_.find(type);
+  return it == entries_.end() ? nullptr : &it->second;
+}
+
+std::vector<std::string> ComponentRegistry::types() const {
+  std::vector<std::string> out;
+  for (const auto& [name, entry] : entries_) out.push_back(name);
+  return out;
+}
+
+}  // namespace scancrew

@@ -1,0 +1,61 @@
+#pragma once
+
+// ComponentRegistry: component types by name, filled at link time by
+// SCANCREW_REGISTER_COMPONENT in each component's source file (no plugins, no dlopen).
+// Component libraries are linked whole-archive so their registrations are kept.
+//
+// A registered class C provides:
+//   static constexpr std::string_view kDescription;    // one line for `scancrew components`
+//   struct Config { ... };                             // plain struct with defaults
+//   static Config read_config(ParamReader&);           // typed, validated parameters
+//   C(ComponentContext, Config);
+// Thread safety: registration happens during static initialisation; lookups after main().
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "executors/component.hpp"
+#include "executors/params.hpp"
+
+namespace scancrew {
+
+class ComponentRegistry {
+ public:
+  // Builds a component from its parameters, or returns the parameter errors.
+  using Factory = std::function<Result<std::unique_ptr<Component>, std::vector<std::string>>(
+      ComponentContext, ParamReader&)>;
+  struct Entry {
+    Factory factory;
+    std::string description;
+  };
+
+  static ComponentRegistry& instance();
+
+  bool add(const std::string& type, Factory factory, std::string description);
+  const Entry* find(const std::string& type) const;
+  std::vector<std::string> types() const;
+
+ private:
+  std::map<std::string, Entry> entries_;
+};
+
+template <class C>
+Result<std::unique_ptr<Component>, std::vector<std::string>> make_component(ComponentContext context,
+                                                                           ParamReader& params) {
+  typename C::Config config = C::read_config(params);
+  params.finish();
+  if (!params.ok()) return make_unexpected(params.errors());
+  return std::unique_ptr<Component>(std::make_unique<C>(std::move(context), std::move(config)));
+}
+
+}  // namespace scancrew
+
+#define SCANCREW_REGISTER_COMPONENT(Class, type_name)                                   \
+  namespace {                                                                           \
+  [[maybe_unused]] const bool scancrew_registered_##Class =                             \
+      ::scancrew::ComponentRegistry::instance().add(                                    \
+          type_name, &::scancrew::make_component<Class>, std::string(Class::kDescription)); \
+  }

@@ -1,0 +1,94 @@
+#pragma once
+
+// Navigation messages: odometry, plans, paths, commands and robot state.
+
+#include <cstdint>
+#include <vector>
+
+#include "interfaces/geometry.hpp"
+#include "interfaces/header.hpp"
+
+namespace scancrew::msg {
+
+struct Odometry {
+  static constexpr const char* kTypeName = "scancrew/Odometry";
+  Header header;         // stamp: the image time the pose refers to
+  Pose3 T_world_body;
+  Vec3 linear_velocity_mps;
+  Vec3 angular_velocity_radps;
+  Mat6 pose_covariance{};
+  double tracking_quality = 0;  // 0 (lost) .. 1 (all tracks inliers)
+};
+
+// A pose along a path for the tracker: x, y, z, yaw (ground robots keep z constant).
+struct Waypoint {
+  Vec3 position;
+  double yaw_rad = 0;
+};
+
+// The low-level planner's path to the current goal, for the tracker.
+struct LocalPath {
+  static constexpr const char* kTypeName = "scancrew/LocalPath";
+  Header header;
+  uint64_t plan_id = 0;
+  std::vector<Waypoint> waypoints;
+};
+
+// One robot's ordered tour of viewpoint clusters (thesis 2.5.2) and the viewpoints to
+// visit inside each.
+struct PathSequence {
+  uint32_t robot_id = 0;
+  std::vector<uint32_t> cluster_ids;
+  std::vector<Waypoint> viewpoints;
+  double utility = 0;
+};
+
+// The team plan from TSGA / dist-TSGA (thesis 3.5.1, 4.5.1).
+struct TeamPlan {
+  static constexpr const char* kTypeName = "scancrew/TeamPlan";
+  Header header;
+  uint64_t plan_id = 0;
+  std::vector<PathSequence> sequences;
+};
+
+struct VelocityCommand {
+  static constexpr const char* kTypeName = "scancrew/VelocityCommand";
+  Header header;
+  Vec3 linear_mps;      // body frame; a ground robot uses x only
+  double yaw_rate_radps = 0;
+};
+
+// Traffic-policy orders to the tracker (thesis 3.5.2).
+struct Maneuver {
+  static constexpr const char* kTypeName = "scancrew/Maneuver";
+  enum class Kind : uint8_t { kResume, kStop, kStepAside };
+  Header header;
+  Kind kind = Kind::kResume;
+  Waypoint aside;          // where to step aside to (kStepAside)
+  uint32_t because_of_robot = 0;
+};
+
+struct RobotState {
+  static constexpr const char* kTypeName = "scancrew/RobotState";
+  enum class Mode : uint8_t { kIdle, kPlanning, kMoving, kWaiting, kSteppingAside, kStopped, kDone, kLost };
+  Header header;
+  Pose3 T_world_body;
+  Mode mode = Mode::kIdle;
+  uint64_t plan_id = 0;
+  uint32_t current_cluster = 0;
+  uint32_t path_index = 0;       // progress: index of the next waypoint
+  uint32_t steps_remaining = 0;  // waypoints left to the current goal
+  double path_length_m = 0;      // travelled so far
+};
+
+struct MissionStatus {
+  static constexpr const char* kTypeName = "scancrew/MissionStatus";
+  enum class Phase : uint8_t { kStarting, kExploring, kDone, kAborted };
+  Header header;
+  Phase phase = Phase::kStarting;
+  uint32_t ise_remaining = 0;
+  double coverage_estimate = 0;
+  double elapsed_s = 0;
+};
+
+}  // namespace scancrew::msg
