@@ -90,9 +90,10 @@ std::optional<PortQos> Component::port_qos(std::string_view port) const {
 }
 
 void Component::note_port(std::string_view port, const std::string& topic, std::string_view type,
-                          EndpointInfo::Kind kind) {
+                          EndpointInfo::Kind kind, bool connected) {
   ports_.emplace_back(port);
-  context_.graph->record({kind, qualified_name_, std::string(port), topic, std::string(type)});
+  // an endpoint refused for its type is reported by configure(), not recorded in the graph
+  if (connected) context_.graph->record({kind, qualified_name_, std::string(port), topic, std::string(type)});
 }
 
 Timer* Component::create_timer(std::chrono::nanoseconds period, Timer::Callback callback) {

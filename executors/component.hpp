@@ -87,8 +87,8 @@ class Component {
   Publisher<T> create_publisher(std::string_view port, PublisherQos qos = {}) {
     const std::string topic_name = resolve(port);
     if (auto o = port_qos(port); o && o->pool_size) qos.pool_size = *o->pool_size;
-    note_port(port, topic_name, T::kTypeName, EndpointInfo::Kind::kPublisher);
     auto topic = context_.graph->topic<T>(topic_name, qos.pool_size);
+    note_port(port, topic_name, T::kTypeName, EndpointInfo::Kind::kPublisher, topic.has_value());
     if (!topic) {
       errors_.push_back(qualified_name_ + "." + std::string(port) + ": " + topic.error());
       return {};
@@ -106,8 +106,8 @@ class Component {
       if (o->depth) qos.depth = *o->depth;
       if (o->history) qos.history = *o->history;
     }
-    note_port(port, topic_name, T::kTypeName, EndpointInfo::Kind::kSubscription);
     auto topic = context_.graph->topic<T>(topic_name, PublisherQos{}.pool_size);
+    note_port(port, topic_name, T::kTypeName, EndpointInfo::Kind::kSubscription, topic.has_value());
     if (!topic) {
       errors_.push_back(qualified_name_ + "." + std::string(port) + ": " + topic.error());
       return nullptr;
@@ -129,7 +129,7 @@ class Component {
  private:
   std::optional<PortQos> port_qos(std::string_view port) const;
   void note_port(std::string_view port, const std::string& topic, std::string_view type,
-                 EndpointInfo::Kind kind);
+                 EndpointInfo::Kind kind, bool connected);
 
   ComponentContext context_;
   std::string qualified_name_;

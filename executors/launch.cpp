@@ -167,7 +167,7 @@ class LaunchBuilder {
       }
       if (!is_map_or_absent(c["params"]))
         errors_.push_back(yaml_location(file_, c["params"]) + ": " + spec.path + ".params: must be a mapping");
-      spec.params = c["params"];
+      if (c["params"].IsDefined()) spec.params = c["params"];  // (a missing key is an invalid node)
       read_group(c["callback_group"], spec);
       read_remaps(c["remap"], spec);
       read_qos(c["qos"], spec);
@@ -370,7 +370,6 @@ double Launch::run(const Progress& progress) {
   activate_all();
   const double ran = step_executor_ ? run_stepped(progress) : run_threaded(progress);
   deactivate_all();
-  if (progress) progress(ran, settings_.duration_s);
   return ran;
 }
 

@@ -16,7 +16,8 @@ std::string yaml_location(const std::string& file, const YAML::Node& node) {
 
 ParamReader make_param_reader(const YAML::Node& node, const std::string& file, const std::string& path) {
   auto impl = std::make_unique<ParamReader::Impl>();
-  impl->node = node;
+  // a missing key yields an invalid node in yaml-cpp, on which type queries throw
+  impl->node = node.IsDefined() ? node : YAML::Node(YAML::NodeType::Null);
   impl->file = file;
   impl->path = path;
   return ParamReader(std::move(impl));

@@ -116,7 +116,10 @@ class Topic final : public TopicBase {
   // Delivers the loaned slot to every attached queue. Returns the number of queues that
   // received it. The loan is consumed whatever the outcome.
   Result<size_t, PublishError> publish(Loan<T>&& loan) {
-    if (!loan.valid() || loan.pool() != &pool_) return make_unexpected(PublishError::kInvalidLoan);
+    if (!loan.valid() || loan.pool() != &pool_) {
+      Loan<T> dropped = std::move(loan);  // consumed: a foreign slot goes back to its own pool
+      return make_unexpected(PublishError::kInvalidLoan);
+    }
     const uint32_t index = loan.release_to_publish();
     note_publish(pool_.at(index).header.publish_mono_ns);
     std::lock_guard lock(mutex_);

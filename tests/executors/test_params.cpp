@@ -1,0 +1,107 @@
+#include "executors/params.hpp"
+
+#include <gtest/gtest.h>
+
+namespace scancrew {
+namespace {
+
+::testing::AssertionResult has_error(const ParamReader& r, const std::string& fragment) {
+  for (const auto& e : r.errors())
+    if (e.find(fragment) != std::string::npos) return ::testing::AssertionSuccess();
+  std::string all;
+  for (const auto& e : r.errors()) all += "\n  " + e;
+  return ::testing::AssertionFailure() << "no error containing '" << fragment << "' in:" << all;
+}
+
+TEST(ParamReader, ReadsTypedValuesAndKeepsDefaultsForMissingKeys) {
+  auto r = ParamReader::from_yaml_string("rate_hz: 12.5\ncount: 3\nname: left\nenabled: false\n", "t.yaml");
+  double rate = 1;
+  uint32_t count = 0;
+  std::string name;
+  bool enabled = true;
+  int64_t untouched = -7;
+  r.required("rate_hz", rate, {0, 100});
+  r.optional("count", count);
+  r.optional("name", name);
+  r.optional("enabled", enabled);
+  r.optional("absent", untouched);
+  r.finish();
+  EXPECT_TRUE(r.ok());
+  EXPECT_DOUBLE_EQ(rate, 12.5);
+  EXPECT_EQ(count, 3u);
+  EXPECT_EQ(name, "left");
+  EXPECT_FALSE(enabled);
+  EXPECT_EQ(untouched, -7);
+}
+
+TEST(ParamReader, NamesFileLineKeyAndWhatIsAllowed) {
+  auto r = ParamReader::from_yaml_string("a: 1\nrate_hz: 5000\n", "cfg.yaml");
+  double rate = 1;
+  r.required("rate_hz", rate, {0.1, 1000});
+  EXPECT_TRUE(has_error(r, "cfg.yaml:2: params.rate_hz: 5000 is out of range; allowed: a number in [0.1, 1000]"));
+  EXPECT_DOUBLE_EQ(rate, 1);
+}
+
+TEST(ParamReader, ReportsMissingRequiredParameters) {
+  auto r = ParamReader::from_yaml_string("{}", "cfg.yaml");
+  double period = 0;
+  r.required("period_s", period, {0, 10});
+  EXPECT_TRUE(has_error(r, "params.period_s: missing required parameter"));
+}
+
+TEST(ParamReader, ReportsMistypedValues) {
+  auto r = ParamReader::from_yaml_string("n: 2.5\nx: fast\nflag: maybe\nlist: [1, 2]\n", "cfg.yaml");
+  int n = 0;
+  double x = 0;
+  bool flag = false;
+  double list = 0;
+  r.optional("n", n);
+  r.optional("x", x);
+  r.optional("flag", flag);
+  r.optional("list", list);
+  EXPECT_TRUE(has_error(r, "params.n: '2.5' has the wrong type; allowed: an integer"));
+  EXPECT_TRUE(has_error(r, "params.x: 'fast' has the wrong type; allowed: a number"));
+  EXPECT_TRUE(has_error(r, "params.flag: 'maybe' has the wrong type; allowed: true or false"));
+  EXPECT_TRUE(has_error(r, "params.list: a list or mapping has the wrong type"));
+}
+
+TEST(ParamReader, RejectsNegativeValuesForUnsignedFields) {
+  auto r = ParamReader::from_yaml_string("size: -3\n", "cfg.yaml");
+  uint64_t size = 1;
+  r.optional("size", size);
+  EXPECT_TRUE(has_error(r, "params.size: '-3' has the wrong type; allowed: a non-negative integer"));
+}
+
+TEST(ParamReader, ReportsUnknownKeysWithTheKnownOnes) {
+  auto r = ParamReader::from_yaml_string("rate_hz: 1\nrat_hz: 2\n", "cfg.yaml");
+  double rate = 0;
+  r.optional("rate_hz", rate);
+  r.finish();
+  EXPECT_TRUE(has_error(r, "cfg.yaml:2: params.rat_hz: unknown parameter; known: rate_hz"));
+}
+
+TEST(ParamReader, ChoiceListsTheAllowedValues) {
+  auto r = ParamReader::from_yaml_string("mode: fastest\n", "cfg.yaml");
+  std::string mode = "vio";
+  r.choice("mode", mode, {"vio", "ground_truth"});
+  EXPECT_TRUE(has_error(r, "'fastest' is not allowed; allowed: vio, ground_truth"));
+  EXPECT_EQ(mode, "vio");
+}
+
+TEST(ParamReader, ListsHaveTheirShapeChecked) {
+  auto r = ParamReader::from_yaml_string("xyz: [1, 2]\nok: [1, 2, 3]\n", "cfg.yaml");
+  std::vector<double> xyz, ok;
+  r.optional_list("xyz", xyz, 3);
+  r.optional_list("ok", ok, 3);
+  EXPECT_TRUE(has_error(r, "params.xyz: wrong shape; allowed: a list of 3 numbers"));
+  EXPECT_EQ(ok, (std::vector<double>{1, 2, 3}));
+}
+
+TEST(ParamReader, InvalidYamlIsAnError) {
+  auto r = ParamReader::from_yaml_string("a: [1, 2\n", "cfg.yaml");
+  EXPECT_FALSE(r.ok());
+  EXPECT_TRUE(has_error(r, "not valid YAML"));
+}
+
+}  // namespace
+}  // namespace scancrew
