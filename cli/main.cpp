@@ -1,10 +1,9 @@
 // scancrew: the command line. Subcommands: run, components, graph, bench.
 
+#include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "cli/report.hpp"
 #include "executors/launch.hpp"
@@ -24,7 +23,8 @@ void on_signal(int /*signal*/) {
 std::unique_ptr<scancrew::Launch> compose_or_report(const std::string& path) {
   auto launch = scancrew::Launch::from_file(path);
   if (!launch) {
-    std::fprintf(stderr, "scancrew: %s: %zu error(s); nothing was started\n", path.c_str(), launch.error().size());
+    std::fprintf(stderr, "scancrew: %s: %zu error(s); nothing was started\n", path.c_str(),
+                 launch.error().size());
     for (const auto& e : launch.error()) std::fprintf(stderr, "  %s\n", e.c_str());
     return nullptr;
   }
@@ -72,13 +72,18 @@ int main(int argc, char** argv) {
 
   std::string launch_path;
   auto* run = app.add_subcommand("run", "compose a launch file and run it");
-  run->add_option("launch", launch_path, "launch file (YAML)")->required()->check(CLI::ExistingFile);
+  run->add_option("launch", launch_path, "launch file (YAML)")
+      ->required()
+      ->check(CLI::ExistingFile);
 
   auto* components = app.add_subcommand("components", "list the registered component types");
 
   std::string graph_path;
-  auto* graph = app.add_subcommand("graph", "print the composed graph of a launch file and check it");
-  graph->add_option("launch", graph_path, "launch file (YAML)")->required()->check(CLI::ExistingFile);
+  auto* graph =
+      app.add_subcommand("graph", "print the composed graph of a launch file and check it");
+  graph->add_option("launch", graph_path, "launch file (YAML)")
+      ->required()
+      ->check(CLI::ExistingFile);
 
   auto* bench = app.add_subcommand("bench", "benchmarks");
   bench->require_subcommand(1);

@@ -12,7 +12,8 @@ void print_graph(std::FILE* out, Launch& launch) {
   std::fprintf(out, "components (%zu):\n", launch.components().size());
   for (const auto& c : launch.components())
     std::fprintf(out, "  %-28s robot %u, %zu executables, state %s\n", c->qualified_name().c_str(),
-                 c->robot_id(), c->executables().size(), std::string(to_string(c->state())).c_str());
+                 c->robot_id(), c->executables().size(),
+                 std::string(to_string(c->state())).c_str());
   std::map<std::string, std::pair<std::string, std::string>> who;  // topic -> (pubs, subs)
   for (const EndpointInfo& e : graph.endpoints()) {
     auto& [pubs, subs] = who[e.topic];
@@ -35,17 +36,19 @@ void print_graph(std::FILE* out, Launch& launch) {
 }
 
 void print_topic_stats(std::FILE* out, const Graph& graph) {
-  std::fprintf(out, "%-32s %9s %9s %9s %7s %7s %9s %9s %9s\n", "topic", "published", "rate_hz", "taken",
-               "dropped", "no_loan", "p50_us", "p99_us", "max_us");
+  std::fprintf(out, "%-32s %9s %9s %9s %7s %7s %9s %9s %9s\n", "topic", "published", "rate_hz",
+               "taken", "dropped", "no_loan", "p50_us", "p99_us", "max_us");
   for (const TopicStats& s : graph.stats())
     std::fprintf(out, "%-32s %9llu %9.1f %9llu %7llu %7llu %9.1f %9.1f %9.1f\n", s.name.c_str(),
                  static_cast<unsigned long long>(s.published), s.rate_hz,
-                 static_cast<unsigned long long>(s.taken), static_cast<unsigned long long>(s.dropped + s.rejected),
+                 static_cast<unsigned long long>(s.taken),
+                 static_cast<unsigned long long>(s.dropped + s.rejected),
                  static_cast<unsigned long long>(s.loan_failures), s.latency_p50_ns * 1e-3,
                  s.latency_p99_ns * 1e-3, s.latency_max_ns * 1e-3);
 }
 
-void print_progress(std::FILE* out, const Graph& graph, double elapsed_s, double duration_s, bool final) {
+void print_progress(std::FILE* out, const Graph& graph, double elapsed_s, double duration_s,
+                    bool final) {
   static const bool tty = isatty(fileno(out)) != 0;
   uint64_t published = 0, dropped = 0, no_loan = 0;
   for (const TopicStats& s : graph.stats()) {
@@ -60,9 +63,9 @@ void print_progress(std::FILE* out, const Graph& graph, double elapsed_s, double
     bar[20] = '\0';
   }
   std::fprintf(out, "%s[%s] %7.1f / %.1f s  messages %llu  dropped %llu  loan failures %llu%s",
-               tty ? "\r" : "", bar, elapsed_s, duration_s, static_cast<unsigned long long>(published),
-               static_cast<unsigned long long>(dropped), static_cast<unsigned long long>(no_loan),
-               tty && !final ? "" : "\n");
+               tty ? "\r" : "", bar, elapsed_s, duration_s,
+               static_cast<unsigned long long>(published), static_cast<unsigned long long>(dropped),
+               static_cast<unsigned long long>(no_loan), tty && !final ? "" : "\n");
   std::fflush(out);
 }
 

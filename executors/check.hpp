@@ -14,7 +14,7 @@ namespace scancrew::detail {
 }
 }  // namespace scancrew::detail
 
-#define SCANCREW_CHECK(cond, msg)                                          \
-  do {                                                                     \
+#define SCANCREW_CHECK(cond, msg)                                                  \
+  do {                                                                             \
     if (!(cond)) ::scancrew::detail::check_failed(#cond, msg, __FILE__, __LINE__); \
   } while (false)

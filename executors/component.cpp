@@ -25,8 +25,8 @@ std::string_view to_string(CallbackGroup::Type type) {
 Component::Component(ComponentContext context) : context_(std::move(context)) {
   SCANCREW_CHECK(context_.graph != nullptr, "a component needs a graph");
   if (!context_.callback_group)
-    context_.callback_group = std::make_shared<CallbackGroup>(
-        context_.name, CallbackGroup::Type::kMutuallyExclusive);
+    context_.callback_group =
+        std::make_shared<CallbackGroup>(context_.name, CallbackGroup::Type::kMutuallyExclusive);
   qualified_name_ = (context_.ns.empty() ? "" : "/" + context_.ns) + "/" + context_.name;
 }
 
@@ -39,7 +39,8 @@ static Result<void, std::string> bad_transition(const std::string& who, std::str
 }
 
 Result<void, std::string> Component::configure() {
-  if (state_ != LifecycleState::kUnconfigured) return bad_transition(qualified_name_, "configure", state_);
+  if (state_ != LifecycleState::kUnconfigured)
+    return bad_transition(qualified_name_, "configure", state_);
   auto result = on_configure();
   if (!result) errors_.push_back(qualified_name_ + ": " + result.error());
   if (!errors_.empty()) {
@@ -52,7 +53,8 @@ Result<void, std::string> Component::configure() {
 }
 
 Result<void, std::string> Component::activate() {
-  if (state_ != LifecycleState::kInactive) return bad_transition(qualified_name_, "activate", state_);
+  if (state_ != LifecycleState::kInactive)
+    return bad_transition(qualified_name_, "activate", state_);
   for (Timer* t : timers_) t->reset();
   on_activate();
   state_ = LifecycleState::kActive;
@@ -61,7 +63,8 @@ Result<void, std::string> Component::activate() {
 }
 
 Result<void, std::string> Component::deactivate() {
-  if (state_ != LifecycleState::kActive) return bad_transition(qualified_name_, "deactivate", state_);
+  if (state_ != LifecycleState::kActive)
+    return bad_transition(qualified_name_, "deactivate", state_);
   active_.store(false, std::memory_order_release);
   on_deactivate();
   state_ = LifecycleState::kInactive;
@@ -69,7 +72,8 @@ Result<void, std::string> Component::deactivate() {
 }
 
 Result<void, std::string> Component::shutdown() {
-  if (state_ == LifecycleState::kFinalized) return bad_transition(qualified_name_, "shutdown", state_);
+  if (state_ == LifecycleState::kFinalized)
+    return bad_transition(qualified_name_, "shutdown", state_);
   if (state_ == LifecycleState::kActive) (void)deactivate();
   on_shutdown();
   state_ = LifecycleState::kFinalized;
@@ -93,7 +97,8 @@ void Component::note_port(std::string_view port, const std::string& topic, std::
                           EndpointInfo::Kind kind, bool connected) {
   ports_.emplace_back(port);
   // an endpoint refused for its type is reported by configure(), not recorded in the graph
-  if (connected) context_.graph->record({kind, qualified_name_, std::string(port), topic, std::string(type)});
+  if (connected)
+    context_.graph->record({kind, qualified_name_, std::string(port), topic, std::string(type)});
 }
 
 Timer* Component::create_timer(std::chrono::nanoseconds period, Timer::Callback callback) {

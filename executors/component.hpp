@@ -40,11 +40,11 @@ struct PortQos {
 
 struct ComponentContext {
   Graph* graph = nullptr;
-  std::string name;       // instance name, e.g. "stereo"
-  std::string ns;         // namespace, e.g. "robot1" ("" = root)
+  std::string name;  // instance name, e.g. "stereo"
+  std::string ns;    // namespace, e.g. "robot1" ("" = root)
   uint32_t robot_id = 0;
-  std::map<std::string, std::string> remaps;  // port -> topic name (relative or absolute)
-  std::map<std::string, PortQos> qos;         // port -> QoS overrides
+  std::map<std::string, std::string> remaps;      // port -> topic name (relative or absolute)
+  std::map<std::string, PortQos> qos;             // port -> QoS overrides
   std::shared_ptr<CallbackGroup> callback_group;  // default group of the component
 };
 
@@ -93,7 +93,8 @@ class Component {
       errors_.push_back(qualified_name_ + "." + std::string(port) + ": " + topic.error());
       return {};
     }
-    return Publisher<T>(std::move(topic).value(), context_.robot_id, &context_.graph->clock(), &active_);
+    return Publisher<T>(std::move(topic).value(), context_.robot_id, &context_.graph->clock(),
+                        &active_);
   }
 
   // The subscription lives as long as the component; null when the topic has another

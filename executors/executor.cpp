@@ -19,8 +19,9 @@ Executor::~Executor() {
 void Executor::add(Executable& executable) {
   {
     std::lock_guard lock(mutex_);
-    SCANCREW_CHECK(std::find(executables_.begin(), executables_.end(), &executable) == executables_.end(),
-                   "executable added twice");
+    SCANCREW_CHECK(
+        std::find(executables_.begin(), executables_.end(), &executable) == executables_.end(),
+        "executable added twice");
     executables_.push_back(&executable);
   }
   executable.set_wake_target(this);

@@ -31,7 +31,9 @@ struct ComponentSpec {
   std::map<std::string, PortQos> qos;
 };
 
-bool is_map_or_absent(const YAML::Node& n) { return !n.IsDefined() || n.IsNull() || n.IsMap(); }
+bool is_map_or_absent(const YAML::Node& n) {
+  return !n.IsDefined() || n.IsNull() || n.IsMap();
+}
 
 }  // namespace
 
@@ -41,7 +43,9 @@ class LaunchBuilder {
   explicit LaunchBuilder(std::string file) : file_(std::move(file)) {}
 
   Result<std::unique_ptr<Launch>, Launch::Errors> build(const YAML::Node& root) {
-    if (!root.IsMap()) return fail(file_ + ": a launch file is a mapping (clock, executor, run, robots, components)");
+    if (!root.IsMap())
+      return fail(file_ +
+                  ": a launch file is a mapping (clock, executor, run, robots, components)");
     auto launch = std::unique_ptr<Launch>(new Launch());
     read_settings(root, launch->settings_);
     read_robots(root["robots"]);
@@ -71,7 +75,9 @@ class LaunchBuilder {
     for (const char* section : {"executor", "run", "robots", "components"}) {
       if (root[section].IsDefined() && root[section].IsScalar())
         errors_.push_back(yaml_location(file_, root[section]) + ": " + section + ": must be a " +
-                          (std::string(section) == "robots" || std::string(section) == "components" ? "list" : "mapping"));
+                          (std::string(section) == "robots" || std::string(section) == "components"
+                               ? "list"
+                               : "mapping"));
       top_known_.insert(section);
     }
     for (const auto& kv : root)
@@ -87,7 +93,7 @@ class LaunchBuilder {
     exec.optional("threads", threads, {1, 64});
     exec.finish();
     merge(exec);
-    s.executor = type == "step"              ? LaunchSettings::ExecutorType::kStep
+    s.executor = type == "step"             ? LaunchSettings::ExecutorType::kStep
                  : type == "multi_threaded" ? LaunchSettings::ExecutorType::kMultiThreaded
                                             : LaunchSettings::ExecutorType::kSingleThreaded;
     s.threads = s.executor == LaunchSettings::ExecutorType::kMultiThreaded ? threads : 1;
@@ -110,7 +116,8 @@ class LaunchBuilder {
       return;
     }
     if (!node.IsSequence() || node.size() == 0) {
-      errors_.push_back(yaml_location(file_, node) + ": robots: must be a non-empty list of {id, namespace}");
+      errors_.push_back(yaml_location(file_, node) +
+                        ": robots: must be a non-empty list of {id, namespace}");
       return;
     }
     std::set<uint32_t> ids;
@@ -128,15 +135,19 @@ class LaunchBuilder {
         errors_.push_back(yaml_location(file_, node[i]) + ": " + path + ".namespace: '" + robot.ns +
                           "' is not a name; allowed: letters, digits, '_'");
       if (!ids.insert(robot.id).second)
-        errors_.push_back(yaml_location(file_, node[i]) + ": " + path + ".id: " + std::to_string(robot.id) + " is used twice");
+        errors_.push_back(yaml_location(file_, node[i]) + ": " + path +
+                          ".id: " + std::to_string(robot.id) + " is used twice");
       if (!names.insert(robot.ns).second)
-        errors_.push_back(yaml_location(file_, node[i]) + ": " + path + ".namespace: '" + robot.ns + "' is used twice");
+        errors_.push_back(yaml_location(file_, node[i]) + ": " + path + ".namespace: '" + robot.ns +
+                          "' is used twice");
       robots_.push_back(robot);
     }
   }
 
   static bool valid_name(const std::string& s) {
-    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+    });
   }
 
   void read_components(const YAML::Node& node) {
@@ -153,20 +164,22 @@ class LaunchBuilder {
       r.required("name", spec.name);
       r.required("type", spec.type);
       r.optional("per_robot", spec.per_robot);
-      known_subkeys(c, spec.path, {"name", "type", "per_robot", "params", "remap", "qos", "callback_group"});
+      known_subkeys(c, spec.path,
+                    {"name", "type", "per_robot", "params", "remap", "qos", "callback_group"});
       merge(r);
       if (!r.ok()) continue;
       if (!valid_name(spec.name))
-        errors_.push_back(yaml_location(file_, c["name"]) + ": " + spec.path + ".name: '" + spec.name +
-                          "' is not a name; allowed: letters, digits, '_'");
+        errors_.push_back(yaml_location(file_, c["name"]) + ": " + spec.path + ".name: '" +
+                          spec.name + "' is not a name; allowed: letters, digits, '_'");
       if (registry.find(spec.type) == nullptr) {
         std::string known;
         for (const auto& t : registry.types()) known += (known.empty() ? "" : ", ") + t;
-        errors_.push_back(yaml_location(file_, c["type"]) + ": " + spec.path + ".type: unknown component '" +
-                          spec.type + "'; registered: " + known);
+        errors_.push_back(yaml_location(file_, c["type"]) + ": " + spec.path +
+                          ".type: unknown component '" + spec.type + "'; registered: " + known);
       }
       if (!is_map_or_absent(c["params"]))
-        errors_.push_back(yaml_location(file_, c["params"]) + ": " + spec.path + ".params: must be a mapping");
+        errors_.push_back(yaml_location(file_, c["params"]) + ": " + spec.path +
+                          ".params: must be a mapping");
       if (c["params"].IsDefined()) spec.params = c["params"];  // (a missing key is an invalid node)
       read_group(c["callback_group"], spec);
       read_remaps(c["remap"], spec);
@@ -175,14 +188,16 @@ class LaunchBuilder {
     }
   }
 
-  void known_subkeys(const YAML::Node& c, const std::string& path, std::initializer_list<std::string_view> allowed) {
+  void known_subkeys(const YAML::Node& c, const std::string& path,
+                     std::initializer_list<std::string_view> allowed) {
     if (!c.IsMap()) return;
     for (const auto& kv : c) {
       const std::string key = kv.first.Scalar();
       if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
       std::string list;
       for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-      errors_.push_back(yaml_location(file_, kv.first) + ": " + path + "." + key + ": unknown key; allowed: " + list);
+      errors_.push_back(yaml_location(file_, kv.first) + ": " + path + "." + key +
+                        ": unknown key; allowed: " + list);
     }
   }
 
@@ -194,20 +209,23 @@ class LaunchBuilder {
     r.choice("type", type, {"mutually_exclusive", "reentrant"});
     r.finish();
     merge(r);
-    spec.group_type = type == "reentrant" ? CallbackGroup::Type::kReentrant : CallbackGroup::Type::kMutuallyExclusive;
+    spec.group_type = type == "reentrant" ? CallbackGroup::Type::kReentrant
+                                          : CallbackGroup::Type::kMutuallyExclusive;
   }
 
   void read_remaps(const YAML::Node& node, ComponentSpec& spec) {
     if (!node.IsDefined() || node.IsNull()) return;
     if (!node.IsMap()) {
-      errors_.push_back(yaml_location(file_, node) + ": " + spec.path + ".remap: must be a mapping port: topic");
+      errors_.push_back(yaml_location(file_, node) + ": " + spec.path +
+                        ".remap: must be a mapping port: topic");
       return;
     }
     for (const auto& kv : node) {
       const std::string port = kv.first.Scalar();
       if (!kv.second.IsScalar() || kv.second.Scalar().empty() || kv.second.Scalar() == "/") {
-        errors_.push_back(yaml_location(file_, kv.first) + ": " + spec.path + ".remap." + port +
-                          ": remap to nothing; allowed: a topic name, relative (ns/name) or absolute (/name)");
+        errors_.push_back(
+            yaml_location(file_, kv.first) + ": " + spec.path + ".remap." + port +
+            ": remap to nothing; allowed: a topic name, relative (ns/name) or absolute (/name)");
         continue;
       }
       spec.remaps[port] = kv.second.Scalar();
@@ -217,7 +235,8 @@ class LaunchBuilder {
   void read_qos(const YAML::Node& node, ComponentSpec& spec) {
     if (!node.IsDefined() || node.IsNull()) return;
     if (!node.IsMap()) {
-      errors_.push_back(yaml_location(file_, node) + ": " + spec.path + ".qos: must be a mapping port: {pool_size, depth, history}");
+      errors_.push_back(yaml_location(file_, node) + ": " + spec.path +
+                        ".qos: must be a mapping port: {pool_size, depth, history}");
       return;
     }
     for (const auto& kv : node) {
@@ -236,15 +255,18 @@ class LaunchBuilder {
       merge(r);
       if (pool) q.pool_size = pool;
       if (depth) q.depth = depth;
-      if (!history.empty()) q.history = history == "fail_fast" ? History::kFailFast : History::kKeepLast;
+      if (!history.empty())
+        q.history = history == "fail_fast" ? History::kFailFast : History::kKeepLast;
       spec.qos[port] = q;
     }
   }
 
   void compose(Launch& launch) {
     const LaunchSettings& s = launch.settings_;
-    if (s.clock == ClockType::kSim) launch.clock_ = std::make_shared<SimClock>();
-    else launch.clock_ = std::make_shared<WallClock>();
+    if (s.clock == ClockType::kSim)
+      launch.clock_ = std::make_shared<SimClock>();
+    else
+      launch.clock_ = std::make_shared<WallClock>();
     launch.graph_ = std::make_unique<Graph>(launch.clock_);
     std::map<std::string, std::shared_ptr<CallbackGroup>> groups;
 
@@ -256,7 +278,8 @@ class LaunchBuilder {
     std::vector<Pending> created;
     const auto& registry = ComponentRegistry::instance();
     for (const ComponentSpec& spec : specs_) {
-      const std::vector<RobotSpec> owners = spec.per_robot ? robots_ : std::vector<RobotSpec>{{0, ""}};
+      const std::vector<RobotSpec> owners =
+          spec.per_robot ? robots_ : std::vector<RobotSpec>{{0, ""}};
       bool params_reported = false;
       for (const RobotSpec& robot : owners) {
         ComponentContext ctx;
@@ -266,7 +289,8 @@ class LaunchBuilder {
         ctx.robot_id = robot.id;
         ctx.remaps = spec.remaps;
         ctx.qos = spec.qos;
-        const std::string group_key = robot.ns + "/" + (spec.group_name.empty() ? spec.name : spec.group_name);
+        const std::string group_key =
+            robot.ns + "/" + (spec.group_name.empty() ? spec.name : spec.group_name);
         auto& group = groups[group_key];
         if (!group) group = std::make_shared<CallbackGroup>(group_key, spec.group_type);
         ctx.callback_group = group;
@@ -274,7 +298,8 @@ class LaunchBuilder {
         auto made = registry.find(spec.type)->factory(std::move(ctx), params);
         if (!made) {
           // the same parameters go to every robot: report them once
-          if (!params_reported) errors_.insert(errors_.end(), made.error().begin(), made.error().end());
+          if (!params_reported)
+            errors_.insert(errors_.end(), made.error().begin(), made.error().end());
           params_reported = true;
           continue;
         }
@@ -293,8 +318,9 @@ class LaunchBuilder {
         if (std::find(ports.begin(), ports.end(), port) != ports.end()) continue;
         std::string list;
         for (const auto& q : ports) list += (list.empty() ? "" : ", ") + q;
-        errors_.push_back(file_ + ": " + p.spec->path + ".remap." + port + ": component '" + p.spec->type +
-                          "' has no port '" + port + "'; its ports: " + (list.empty() ? "(none)" : list));
+        errors_.push_back(file_ + ": " + p.spec->path + ".remap." + port + ": component '" +
+                          p.spec->type + "' has no port '" + port +
+                          "'; its ports: " + (list.empty() ? "(none)" : list));
       }
     }
     // a remap error is reported once per spec, not once per robot
@@ -305,7 +331,8 @@ class LaunchBuilder {
 
     for (auto& p : created) launch.components_.push_back(std::move(p.component));
     if (s.executor == LaunchSettings::ExecutorType::kStep) {
-      launch.step_executor_ = std::make_unique<StepExecutor>(static_cast<SimClock&>(*launch.clock_));
+      launch.step_executor_ =
+          std::make_unique<StepExecutor>(static_cast<SimClock&>(*launch.clock_));
       for (auto& c : launch.components_)
         for (Executable* e : c->executables()) launch.step_executor_->add(*e);
     } else {
@@ -329,7 +356,8 @@ Result<std::unique_ptr<Launch>, Launch::Errors> Launch::from_string(const std::s
   try {
     root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    return builder.fail(label + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+    return builder.fail(label + ":" + std::to_string(e.mark.line + 1) +
+                        ": not valid YAML: " + e.msg);
   }
   return builder.build(root);
 }
@@ -404,7 +432,8 @@ double Launch::run_threaded(const Progress& progress) {
     return sim ? static_cast<double>(sim->now_ns() - sim_start) * 1e-9 : elapsed_wall();
   };
   double next_report = settings_.progress_period_s;
-  while (!stop_requested_.load() && (settings_.duration_s == 0 || elapsed() < settings_.duration_s)) {
+  while (!stop_requested_.load() &&
+         (settings_.duration_s == 0 || elapsed() < settings_.duration_s)) {
     if (sim) {
       // free-running sim time, paced to the real-time factor (0: as fast as possible)
       const int64_t step_ns = static_cast<int64_t>(settings_.sim_step_s * 1e9);

@@ -14,7 +14,8 @@ std::string yaml_location(const std::string& file, const YAML::Node& node) {
   return file + ":" + std::to_string(node.Mark().line + 1);
 }
 
-ParamReader make_param_reader(const YAML::Node& node, const std::string& file, const std::string& path) {
+ParamReader make_param_reader(const YAML::Node& node, const std::string& file,
+                              const std::string& path) {
   auto impl = std::make_unique<ParamReader::Impl>();
   // a missing key yields an invalid node in yaml-cpp, on which type queries throw
   impl->node = node.IsDefined() ? node : YAML::Node(YAML::NodeType::Null);
@@ -41,13 +42,15 @@ ParamReader ParamReader::from_yaml_string(const std::string& text, const std::st
   }
 }
 
-std::string ParamReader::where() const { return yaml_location(impl_->file, impl_->node) + ": " + impl_->path; }
+std::string ParamReader::where() const {
+  return yaml_location(impl_->file, impl_->node) + ": " + impl_->path;
+}
 
 void ParamReader::error(std::string_view key, const std::string& message) {
   const YAML::Node& node = impl_->node;
   YAML::Node at = node.IsMap() ? node[std::string(key)] : YAML::Node();
-  errors_.push_back(yaml_location(impl_->file, at.IsDefined() ? at : node) + ": " + impl_->path + "." +
-                    std::string(key) + ": " + message);
+  errors_.push_back(yaml_location(impl_->file, at.IsDefined() ? at : node) + ": " + impl_->path +
+                    "." + std::string(key) + ": " + message);
 }
 
 namespace {
@@ -61,19 +64,27 @@ std::string format_number(double v) {
 std::string describe_range(const char* kind, Range r) {
   std::string s = kind;
   const bool lo = std::isfinite(r.min), hi = std::isfinite(r.max);
-  if (lo && hi) s += " in [" + format_number(r.min) + ", " + format_number(r.max) + "]";
-  else if (lo) s += " >= " + format_number(r.min);
-  else if (hi) s += " <= " + format_number(r.max);
+  if (lo && hi)
+    s += " in [" + format_number(r.min) + ", " + format_number(r.max) + "]";
+  else if (lo)
+    s += " >= " + format_number(r.min);
+  else if (hi)
+    s += " <= " + format_number(r.max);
   return s;
 }
 
 template <class T>
 constexpr const char* kind_name() {
-  if constexpr (std::is_same_v<T, bool>) return "true or false";
-  else if constexpr (std::is_same_v<T, std::string>) return "a string";
-  else if constexpr (std::is_floating_point_v<T>) return "a number";
-  else if constexpr (std::is_unsigned_v<T>) return "a non-negative integer";
-  else return "an integer";
+  if constexpr (std::is_same_v<T, bool>)
+    return "true or false";
+  else if constexpr (std::is_same_v<T, std::string>)
+    return "a string";
+  else if constexpr (std::is_floating_point_v<T>)
+    return "a number";
+  else if constexpr (std::is_unsigned_v<T>)
+    return "a non-negative integer";
+  else
+    return "an integer";
 }
 
 template <class T>
@@ -131,7 +142,8 @@ void ParamReader::read(std::string_view key, T& value, Range range, bool is_requ
   }
   T parsed{};
   if (!item.IsScalar() || !parse_scalar(item.Scalar(), parsed)) {
-    const std::string shown = item.IsScalar() ? "'" + item.Scalar() + "'" : std::string("a list or mapping");
+    const std::string shown =
+        item.IsScalar() ? "'" + item.Scalar() + "'" : std::string("a list or mapping");
     error(key, shown + " has the wrong type; allowed: " + allowed);
     return;
   }
@@ -154,8 +166,8 @@ void ParamReader::required(std::string_view key, T& value, Range range) {
   read(key, value, range, true);
 }
 
-#define SCANCREW_PARAM_TYPE(T)                                              \
-  template void ParamReader::optional<T>(std::string_view, T&, Range);     \
+#define SCANCREW_PARAM_TYPE(T)                                         \
+  template void ParamReader::optional<T>(std::string_view, T&, Range); \
   template void ParamReader::required<T>(std::string_view, T&, Range);
 SCANCREW_PARAM_TYPE(double)
 SCANCREW_PARAM_TYPE(int)
@@ -179,13 +191,15 @@ void ParamReader::choice(std::string_view key, std::string& value,
   value = picked;
 }
 
-void ParamReader::optional_list(std::string_view key, std::vector<double>& value, size_t size, Range range) {
+void ParamReader::optional_list(std::string_view key, std::vector<double>& value, size_t size,
+                                Range range) {
   asked_.emplace_back(key);
   const YAML::Node& node = impl_->node;
   const YAML::Node item = node.IsMap() ? node[std::string(key)] : YAML::Node();
   if (!item.IsDefined() || item.IsNull()) return;
-  const std::string allowed = (size ? "a list of " + std::to_string(size) + " " : std::string("a list of ")) +
-                              describe_range("numbers", range);
+  const std::string allowed =
+      (size ? "a list of " + std::to_string(size) + " " : std::string("a list of ")) +
+      describe_range("numbers", range);
   if (!item.IsSequence() || (size != 0 && item.size() != size)) {
     error(key, "wrong shape; allowed: " + allowed);
     return;
@@ -193,8 +207,10 @@ void ParamReader::optional_list(std::string_view key, std::vector<double>& value
   std::vector<double> parsed;
   for (const auto& element : item) {
     double v = 0;
-    if (!element.IsScalar() || !parse_scalar(element.Scalar(), v) || v < range.min || v > range.max) {
-      error(key, "element '" + (element.IsScalar() ? element.Scalar() : "?") + "' is invalid; allowed: " + allowed);
+    if (!element.IsScalar() || !parse_scalar(element.Scalar(), v) || v < range.min ||
+        v > range.max) {
+      error(key, "element '" + (element.IsScalar() ? element.Scalar() : "?") +
+                     "' is invalid; allowed: " + allowed);
       return;
     }
     parsed.push_back(v);

@@ -38,10 +38,11 @@ class ParamReader {
   template <class T>
   void required(std::string_view key, T& value, Range range = {});
   // A string that must be one of `allowed`.
-  void choice(std::string_view key, std::string& value, std::initializer_list<std::string_view> allowed,
-              bool is_required = false);
+  void choice(std::string_view key, std::string& value,
+              std::initializer_list<std::string_view> allowed, bool is_required = false);
   // A list of numbers; `size` 0 means any length.
-  void optional_list(std::string_view key, std::vector<double>& value, size_t size = 0, Range range = {});
+  void optional_list(std::string_view key, std::vector<double>& value, size_t size = 0,
+                     Range range = {});
 
   // Reports keys that no read asked for (typos). Call after the last read.
   void finish();

@@ -2,9 +2,9 @@
 
 // The YAML side of ParamReader, for the launch loader only (includes yaml-cpp).
 
-#include <string>
-
 #include <yaml-cpp/yaml.h>
+
+#include <string>
 
 #include "executors/params.hpp"
 
@@ -19,6 +19,7 @@ struct ParamReader::Impl {
 // "file:line" of a node (line 1-based), or just the file when the node has no mark.
 std::string yaml_location(const std::string& file, const YAML::Node& node);
 
-ParamReader make_param_reader(const YAML::Node& node, const std::string& file, const std::string& path);
+ParamReader make_param_reader(const YAML::Node& node, const std::string& file,
+                              const std::string& path);
 
 }  // namespace scancrew

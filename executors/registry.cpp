@@ -10,7 +10,8 @@ ComponentRegistry& ComponentRegistry::instance() {
 }
 
 bool ComponentRegistry::add(const std::string& type, Factory factory, std::string description) {
-  const bool inserted = entries_.emplace(type, Entry{std::move(factory), std::move(description)}).second;
+  const bool inserted =
+      entries_.emplace(type, Entry{std::move(factory), std::move(description)}).second;
   SCANCREW_CHECK(inserted, "two components registered under one name");
   return inserted;
 }

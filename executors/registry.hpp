@@ -43,8 +43,8 @@ class ComponentRegistry {
 };
 
 template <class C>
-Result<std::unique_ptr<Component>, std::vector<std::string>> make_component(ComponentContext context,
-                                                                           ParamReader& params) {
+Result<std::unique_ptr<Component>, std::vector<std::string>> make_component(
+    ComponentContext context, ParamReader& params) {
   typename C::Config config = C::read_config(params);
   params.finish();
   if (!params.ok()) return make_unexpected(params.errors());
@@ -53,9 +53,9 @@ Result<std::unique_ptr<Component>, std::vector<std::string>> make_component(Comp
 
 }  // namespace scancrew
 
-#define SCANCREW_REGISTER_COMPONENT(Class, type_name)                                   \
-  namespace {                                                                           \
-  [[maybe_unused]] const bool scancrew_registered_##Class =                             \
-      ::scancrew::ComponentRegistry::instance().add(                                    \
-          type_name, &::scancrew::make_component<Class>, std::string(Class::kDescription)); \
+#define SCANCREW_REGISTER_COMPONENT(Class, type_name)                                              \
+  namespace {                                                                                      \
+  [[maybe_unused]] const bool scancrew_registered_##Class =                                        \
+      ::scancrew::ComponentRegistry::instance().add(type_name, &::scancrew::make_component<Class>, \
+                                                    std::string(Class::kDescription));             \
   }

@@ -26,9 +26,13 @@ Unexpected<std::decay_t<E>> make_unexpected(E&& e) {
 template <class T, class E>
 class [[nodiscard]] Result {
  public:
-  Result(T value) : v_(std::in_place_index<0>, std::move(value)) {}  // NOLINT(google-explicit-constructor): implicit like std::expected
+  Result(T value)
+      : v_(std::in_place_index<0>, std::move(value)) {
+  }  // NOLINT(google-explicit-constructor): implicit like std::expected
   template <class G>
-  Result(Unexpected<G> e) : v_(std::in_place_index<1>, std::move(e.error)) {}  // NOLINT(google-explicit-constructor): implicit like std::expected
+  Result(Unexpected<G> e)
+      : v_(std::in_place_index<1>, std::move(e.error)) {
+  }  // NOLINT(google-explicit-constructor): implicit like std::expected
 
   bool has_value() const { return v_.index() == 0; }
   explicit operator bool() const { return has_value(); }
@@ -65,7 +69,9 @@ class [[nodiscard]] Result<void, E> {
  public:
   Result() = default;
   template <class G>
-  Result(Unexpected<G> e) : error_(std::move(e.error)) {}  // NOLINT(google-explicit-constructor): implicit like std::expected
+  Result(Unexpected<G> e)
+      : error_(std::move(e.error)) {
+  }  // NOLINT(google-explicit-constructor): implicit like std::expected
 
   bool has_value() const { return !error_.has_value(); }
   explicit operator bool() const { return has_value(); }

@@ -77,7 +77,8 @@ class Sample {
     }
     return *this;
   }
-  Sample(Sample&& other) noexcept : pool_(std::exchange(other.pool_, nullptr)), index_(other.index_) {}
+  Sample(Sample&& other) noexcept
+      : pool_(std::exchange(other.pool_, nullptr)), index_(other.index_) {}
   Sample& operator=(Sample&& other) noexcept {
     if (this != &other) {
       reset();

@@ -24,7 +24,8 @@ namespace scancrew {
 template <class T>
 class SamplePool {
  public:
-  explicit SamplePool(size_t capacity) : slots_(std::make_unique<Slot[]>(capacity)), capacity_(capacity) {
+  explicit SamplePool(size_t capacity)
+      : slots_(std::make_unique<Slot[]>(capacity)), capacity_(capacity) {
     SCANCREW_CHECK(capacity > 0 && capacity < UINT32_MAX, "pool capacity out of range");
     free_.reserve(capacity);
     for (size_t i = capacity; i-- > 0;) free_.push_back(static_cast<uint32_t>(i));

@@ -44,7 +44,9 @@ class SubscriberQueue {
   }
   bool empty() const { return count_ == 0; }
 
-  void set_wake_target(WakeTarget* target) { wake_target_.store(target, std::memory_order_release); }
+  void set_wake_target(WakeTarget* target) {
+    wake_target_.store(target, std::memory_order_release);
+  }
   void wake() {
     if (WakeTarget* target = wake_target_.load(std::memory_order_acquire)) target->wake();
   }

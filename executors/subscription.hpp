@@ -21,7 +21,10 @@ class Subscription final : public Executable {
 
   Subscription(std::shared_ptr<Topic<T>> topic, SubscriptionQos qos, Callback callback,
                CallbackGroup& group, const std::atomic<bool>* active)
-      : Executable(group, active), topic_(std::move(topic)), queue_(qos), callback_(std::move(callback)) {
+      : Executable(group, active),
+        topic_(std::move(topic)),
+        queue_(qos),
+        callback_(std::move(callback)) {
     SCANCREW_CHECK(qos.depth > 0, "subscription depth must be positive");
     topic_->attach(queue_);
   }

@@ -7,20 +7,29 @@ namespace scancrew {
 
 Timer::Timer(const Clock& clock, int64_t period_ns, Callback callback, CallbackGroup& group,
              const std::atomic<bool>* active)
-    : Executable(group, active), clock_(clock), period_ns_(period_ns), callback_(std::move(callback)) {
+    : Executable(group, active),
+      clock_(clock),
+      period_ns_(period_ns),
+      callback_(std::move(callback)) {
   SCANCREW_CHECK(period_ns > 0, "timer period must be positive");
   next_ns_.store(now_ns() + period_ns_);
 }
 
-Timer::~Timer() { set_wake_target(nullptr); }
+Timer::~Timer() {
+  set_wake_target(nullptr);
+}
 
 int64_t Timer::now_ns() const {
   return clock_.type() == ClockType::kSim ? clock_.now_ns() : monotonic_now_ns();
 }
 
-void Timer::reset() { next_ns_.store(now_ns() + period_ns_, std::memory_order_release); }
+void Timer::reset() {
+  next_ns_.store(now_ns() + period_ns_, std::memory_order_release);
+}
 
-bool Timer::has_work() const { return now_ns() >= next_ns_.load(std::memory_order_acquire); }
+bool Timer::has_work() const {
+  return now_ns() >= next_ns_.load(std::memory_order_acquire);
+}
 
 bool Timer::execute() {
   int64_t due = next_ns_.load(std::memory_order_acquire);
@@ -37,7 +46,9 @@ bool Timer::execute() {
 void Timer::set_wake_target(WakeTarget* target) {
   if (clock_.type() != ClockType::kSim) return;
   // a sim timer becomes due when the sim clock advances: ask the clock to wake us
-  auto& sim = const_cast<SimClock&>(static_cast<const SimClock&>(clock_));  // NOLINT(cppcoreguidelines-pro-type-const-cast): listeners are bookkeeping, time itself stays read-only
+  auto& sim = const_cast<SimClock&>(static_cast<const SimClock&>(
+      clock_));  // NOLINT(cppcoreguidelines-pro-type-const-cast): listeners are bookkeeping, time
+                 // itself stays read-only
   if (listener_id_ >= 0) {
     sim.remove_listener(listener_id_);
     listener_id_ = -1;

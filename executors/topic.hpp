@@ -98,9 +98,7 @@ class Topic final : public TopicBase {
  public:
   Topic(std::string name, size_t pool_size)
       : TopicBase(std::move(name), T::kTypeName, message_type_tag<T>()), pool_(pool_size) {}
-  ~Topic() override {
-    SCANCREW_CHECK(queues_.empty(), "a subscription outlived its topic");
-  }
+  ~Topic() override { SCANCREW_CHECK(queues_.empty(), "a subscription outlived its topic"); }
 
   Result<Loan<T>, LoanError> loan() {
     const auto index = pool_.acquire();

@@ -19,7 +19,7 @@ struct Quat {
 
 // A rigid transform T_a_b: maps points of frame b into frame a.
 struct Pose3 {
-  Vec3 position;   // m
+  Vec3 position;  // m
   Quat orientation;
 };
 

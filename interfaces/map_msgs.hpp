@@ -21,7 +21,7 @@ struct TsdfVoxel {
 struct TsdfPatch {
   static constexpr const char* kTypeName = "scancrew/TsdfPatch";
   Header header;
-  uint64_t patch_id = 0;    // (robot id << 32) | local counter
+  uint64_t patch_id = 0;  // (robot id << 32) | local counter
   Pose3 T_world_patch;
   double voxel_size_m = 0;
   uint32_t size_x = 0, size_y = 0, size_z = 0;

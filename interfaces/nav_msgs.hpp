@@ -12,7 +12,7 @@ namespace scancrew::msg {
 
 struct Odometry {
   static constexpr const char* kTypeName = "scancrew/Odometry";
-  Header header;         // stamp: the image time the pose refers to
+  Header header;  // stamp: the image time the pose refers to
   Pose3 T_world_body;
   Vec3 linear_velocity_mps;
   Vec3 angular_velocity_radps;
@@ -54,7 +54,7 @@ struct TeamPlan {
 struct VelocityCommand {
   static constexpr const char* kTypeName = "scancrew/VelocityCommand";
   Header header;
-  Vec3 linear_mps;      // body frame; a ground robot uses x only
+  Vec3 linear_mps;  // body frame; a ground robot uses x only
   double yaw_rate_radps = 0;
 };
 
@@ -64,13 +64,22 @@ struct Maneuver {
   enum class Kind : uint8_t { kResume, kStop, kStepAside };
   Header header;
   Kind kind = Kind::kResume;
-  Waypoint aside;          // where to step aside to (kStepAside)
+  Waypoint aside;  // where to step aside to (kStepAside)
   uint32_t because_of_robot = 0;
 };
 
 struct RobotState {
   static constexpr const char* kTypeName = "scancrew/RobotState";
-  enum class Mode : uint8_t { kIdle, kPlanning, kMoving, kWaiting, kSteppingAside, kStopped, kDone, kLost };
+  enum class Mode : uint8_t {
+    kIdle,
+    kPlanning,
+    kMoving,
+    kWaiting,
+    kSteppingAside,
+    kStopped,
+    kDone,
+    kLost
+  };
   Header header;
   Pose3 T_world_body;
   Mode mode = Mode::kIdle;

@@ -15,7 +15,7 @@ namespace scancrew::msg {
 // A rectified grayscale stereo pair, row-major, 8 bits per pixel, left camera frame.
 struct StereoFrame {
   static constexpr const char* kTypeName = "scancrew/StereoFrame";
-  Header header;  // stamp: capture time
+  Header header;                // stamp: capture time
   CameraIntrinsics intrinsics;  // of the left (and, rectified, the right) image
   double baseline_m = 0;
   std::vector<uint8_t> left, right;  // width*height each

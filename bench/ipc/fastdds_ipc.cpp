@@ -5,13 +5,12 @@
 //  - same_thread: write, then take on the same thread;
 //  - cross_thread: a reader thread blocked in a WaitSet on DATA_AVAILABLE takes it.
 
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+
 #include <array>
 #include <atomic>
 #include <chrono>
 #include <cstring>
-#include <memory>
-#include <thread>
-
 #include <fastdds/dds/core/condition/WaitSet.hpp>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -22,7 +21,8 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TopicDataType.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <memory>
+#include <thread>
 
 #include "bench/ipc/ipc_bench.hpp"
 #include "bench/ipc/latency_samples.hpp"
@@ -69,7 +69,9 @@ class PlainType final : public dds::TopicDataType {
   }
   void* createData() override { return new T(); }
   void deleteData(void* data) override { delete static_cast<T*>(data); }
-  bool getKey(void* /*data*/, rtps::InstanceHandle_t* /*handle*/, bool /*force_md5*/) override { return false; }
+  bool getKey(void* /*data*/, rtps::InstanceHandle_t* /*handle*/, bool /*force_md5*/) override {
+    return false;
+  }
   bool is_bounded() const override { return true; }
   bool is_plain() const override { return true; }
   bool construct_sample(void* memory) const override {
@@ -96,8 +98,8 @@ IpcResult run_case(bool cross_thread, const IpcOptions& options) {
   }
   dds::TypeSupport type(new PlainType<Blob>("scancrew::bench::Blob" + std::to_string(N)));
   type.register_type(participant);
-  dds::Topic* topic = participant->create_topic("bench_blob_" + std::to_string(N), type.get_type_name(),
-                                                dds::TOPIC_QOS_DEFAULT);
+  dds::Topic* topic = participant->create_topic("bench_blob_" + std::to_string(N),
+                                                type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
   dds::Publisher* publisher = participant->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
   dds::Subscriber* subscriber = participant->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
 
@@ -158,7 +160,8 @@ IpcResult run_case(bool cross_thread, const IpcOptions& options) {
       waitset.attach_condition(condition);
       dds::ConditionSeq active;
       while (!stop.load()) {
-        if (waitset.wait(active, eprosima::fastrtps::Duration_t(0, 100'000'000)) == ReturnCode_t::RETCODE_OK)
+        if (waitset.wait(active, eprosima::fastrtps::Duration_t(0, 100'000'000)) ==
+            ReturnCode_t::RETCODE_OK)
           take_all();
       }
     });

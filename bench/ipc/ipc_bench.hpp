@@ -12,10 +12,10 @@
 namespace scancrew::bench {
 
 struct IpcOptions {
-  int samples = 2000;   // measured messages per case (after warm-up)
-  bool json = false;    // one JSON object on stdout instead of a table
+  int samples = 2000;  // measured messages per case (after warm-up)
+  bool json = false;   // one JSON object on stdout instead of a table
   std::vector<size_t> payload_bytes = {64, 4096, 256 << 10, 1 << 20, 4 << 20, 16 << 20};
-  int gap_us = 50;      // pause between messages, so the receiver is asleep when one comes
+  int gap_us = 50;  // pause between messages, so the receiver is asleep when one comes
 };
 
 struct IpcResult {
@@ -23,7 +23,7 @@ struct IpcResult {
   std::string mode;    // same_thread | cross_thread
   size_t payload_bytes = 0;
   double p50_us = 0, p99_us = 0, max_us = 0;
-  size_t lost = 0;     // messages that never arrived (bounded wait)
+  size_t lost = 0;  // messages that never arrived (bounded wait)
 };
 
 std::vector<IpcResult> bench_scancrew(const IpcOptions& options);

@@ -97,7 +97,8 @@ IpcResult run_case(size_t payload, bool cross_thread, const IpcOptions& options)
 std::vector<IpcResult> bench_scancrew(const IpcOptions& options) {
   std::vector<IpcResult> results;
   for (bool cross : {false, true})
-    for (size_t payload : options.payload_bytes) results.push_back(run_case(payload, cross, options));
+    for (size_t payload : options.payload_bytes)
+      results.push_back(run_case(payload, cross, options));
   return results;
 }
 

@@ -29,7 +29,8 @@ Result<void, std::string> DemoCamera::on_configure() {
   std::uniform_int_distribution<int> dot(0, 255);
   pattern_.resize(static_cast<size_t>(config_.width + config_.disparity_px) * config_.height);
   for (auto& px : pattern_) px = static_cast<uint8_t>(dot(rng));
-  create_timer(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / config_.rate_hz)), [this] { capture(); });
+  create_timer(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / config_.rate_hz)),
+               [this] { capture(); });
   return {};
 }
 

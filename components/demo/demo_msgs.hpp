@@ -10,10 +10,10 @@ namespace scancrew::demo {
 struct DisparityEstimate {
   static constexpr const char* kTypeName = "scancrew/demo/DisparityEstimate";
   msg::Header header;
-  uint64_t frame_seq = 0;         // seq of the StereoFrame it was measured on
+  uint64_t frame_seq = 0;  // seq of the StereoFrame it was measured on
   int64_t frame_publish_mono_ns = 0;
   double disparity_px = 0;
-  double depth_m = 0;              // f·B/d of that disparity
+  double depth_m = 0;  // f·B/d of that disparity
 };
 
 }  // namespace scancrew::demo

@@ -19,14 +19,15 @@ DisparityProbe::DisparityProbe(ComponentContext context, Config config)
 
 Result<void, std::string> DisparityProbe::on_configure() {
   estimates_ = create_publisher<DisparityEstimate>("disparity");
-  create_subscription<msg::StereoFrame>("stereo", {.depth = 2},
-                                        [this](Sample<msg::StereoFrame>&& f) { on_frame(std::move(f)); });
+  create_subscription<msg::StereoFrame>(
+      "stereo", {.depth = 2}, [this](Sample<msg::StereoFrame>&& f) { on_frame(std::move(f)); });
   return {};
 }
 
 int DisparityProbe::best_shift(const msg::StereoFrame& frame, uint32_t max_d, uint32_t band_rows) {
   const uint32_t w = frame.intrinsics.width, h = frame.intrinsics.height;
-  if (w <= max_d || h == 0 || frame.left.size() < size_t{w} * h || frame.right.size() < size_t{w} * h)
+  if (w <= max_d || h == 0 || frame.left.size() < size_t{w} * h ||
+      frame.right.size() < size_t{w} * h)
     return -1;
   const uint32_t rows = band_rows < h ? band_rows : h;
   const uint32_t y0 = (h - rows) / 2;
@@ -57,7 +58,8 @@ void DisparityProbe::on_frame(Sample<msg::StereoFrame>&& frame) {
   e.frame_seq = frame->header.seq;
   e.frame_publish_mono_ns = frame->header.publish_mono_ns;
   e.disparity_px = d;
-  e.depth_m = d > 0 ? frame->intrinsics.fx * frame->baseline_m / d : std::numeric_limits<double>::infinity();
+  e.depth_m = d > 0 ? frame->intrinsics.fx * frame->baseline_m / d
+                    : std::numeric_limits<double>::infinity();
   (void)estimates_.publish(std::move(*loan));
 }
 

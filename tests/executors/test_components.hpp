@@ -20,7 +20,8 @@ class Talker final : public Component {
     uint64_t start = 1;
   };
   static Config read_config(ParamReader& p);
-  Talker(ComponentContext context, Config config) : Component(std::move(context)), config_(config) {}
+  Talker(ComponentContext context, Config config)
+      : Component(std::move(context)), config_(config) {}
 
   static std::atomic<int> constructed;
 

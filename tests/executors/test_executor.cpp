@@ -2,8 +2,6 @@
 // behaviours that need several threads. Waits are bounded; nothing depends on timing
 // beyond "eventually, within seconds".
 
-#include "executors/executor.hpp"
-
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -11,6 +9,7 @@
 #include <mutex>
 #include <thread>
 
+#include "executors/executor.hpp"
 #include "executors/publisher.hpp"
 #include "executors/subscription.hpp"
 #include "executors/timer.hpp"
@@ -79,10 +78,13 @@ TYPED_TEST_SUITE(EveryExecutor, Executors);
 TYPED_TEST(EveryExecutor, DeliversEverySampleInOrderToAMutuallyExclusiveSubscription) {
   std::mutex m;
   std::vector<uint64_t> got;
-  Subscription<Counter> sub(this->topic_, {.depth = 64}, [&](Sample<Counter>&& s) {
-    std::lock_guard lock(m);
-    got.push_back(s->value);
-  }, this->group_, nullptr);
+  Subscription<Counter> sub(
+      this->topic_, {.depth = 64},
+      [&](Sample<Counter>&& s) {
+        std::lock_guard lock(m);
+        got.push_back(s->value);
+      },
+      this->group_, nullptr);
   this->executor_->add(sub);
   {
     BackgroundSpin spin(*this->executor_);
@@ -98,7 +100,8 @@ TYPED_TEST(EveryExecutor, DeliversEverySampleInOrderToAMutuallyExclusiveSubscrip
 
 TYPED_TEST(EveryExecutor, WallTimerFiresRepeatedly) {
   std::atomic<int> fired{0};
-  Timer timer(this->clock_, 2'000'000, [&] { fired.fetch_add(1); }, this->group_, nullptr);
+  Timer timer(
+      this->clock_, 2'000'000, [&] { fired.fetch_add(1); }, this->group_, nullptr);
   this->executor_->add(timer);
   {
     BackgroundSpin spin(*this->executor_);
@@ -110,7 +113,8 @@ TYPED_TEST(EveryExecutor, WallTimerFiresRepeatedly) {
 TYPED_TEST(EveryExecutor, SimTimerFiresOnlyWhenSimTimeReachesItsDeadline) {
   SimClock sim;
   std::atomic<int> fired{0};
-  Timer timer(sim, 100, [&] { fired.fetch_add(1); }, this->group_, nullptr);
+  Timer timer(
+      sim, 100, [&] { fired.fetch_add(1); }, this->group_, nullptr);
   this->executor_->add(timer);
   {
     BackgroundSpin spin(*this->executor_);
@@ -131,8 +135,9 @@ TYPED_TEST(EveryExecutor, SimTimerFiresOnlyWhenSimTimeReachesItsDeadline) {
 TYPED_TEST(EveryExecutor, DisabledExecutablesDoNotRunUntilEnabled) {
   std::atomic<bool> active{false};
   std::atomic<int> calls{0};
-  Subscription<Counter> sub(this->topic_, {.depth = 8}, [&](Sample<Counter>&&) { calls.fetch_add(1); },
-                            this->group_, &active);
+  Subscription<Counter> sub(
+      this->topic_, {.depth = 8}, [&](Sample<Counter>&&) { calls.fetch_add(1); }, this->group_,
+      &active);
   this->executor_->add(sub);
   {
     BackgroundSpin spin(*this->executor_);
@@ -156,7 +161,8 @@ TYPED_TEST(EveryExecutor, SpinOnceWaitsAtMostItsTimeout) {
   const int64_t t0 = monotonic_now_ns();
   EXPECT_FALSE(this->executor_->spin_once(5'000'000));
   EXPECT_GE(monotonic_now_ns() - t0, 5'000'000);
-  Subscription<Counter> sub(this->topic_, {.depth = 8}, [](Sample<Counter>&&) {}, this->group_, nullptr);
+  Subscription<Counter> sub(
+      this->topic_, {.depth = 8}, [](Sample<Counter>&&) {}, this->group_, nullptr);
   this->executor_->add(sub);
   this->publish(1);
   EXPECT_TRUE(this->executor_->spin_once(kSecond));
@@ -203,11 +209,14 @@ TEST(MultiThreadedExecutor, ReentrantCallbacksRunConcurrently) {
   auto topic = std::make_shared<Topic<Counter>>("/c", 8);
   Publisher<Counter> pub(topic, 0, &clock, nullptr);
   std::atomic<int> inside{0}, met{0}, calls{0};
-  Subscription<Counter> sub(topic, {.depth = 8}, [&](Sample<Counter>&&) {
-    inside.fetch_add(1);
-    if (eventually([&] { return inside.load() >= 2; }, 5 * kSecond)) met.fetch_add(1);
-    calls.fetch_add(1);
-  }, group, nullptr);
+  Subscription<Counter> sub(
+      topic, {.depth = 8},
+      [&](Sample<Counter>&&) {
+        inside.fetch_add(1);
+        if (eventually([&] { return inside.load() >= 2; }, 5 * kSecond)) met.fetch_add(1);
+        calls.fetch_add(1);
+      },
+      group, nullptr);
   MultiThreadedExecutor executor(2);
   executor.add(sub);
   {
@@ -229,12 +238,16 @@ TEST(MultiThreadedExecutor, ABusyMutuallyExclusiveGroupDoesNotBlockOtherGroups) 
   std::atomic<bool> release{false};
   std::atomic<int> fast_calls{0};
   std::atomic<bool> slow_done{false};
-  Subscription<Counter> slow(topic, {.depth = 4}, [&](Sample<Counter>&&) {
-    eventually([&] { return release.load(); }, 10 * kSecond);
-    slow_done.store(true);
-  }, slow_group, nullptr);
-  Subscription<Counter> fast(topic, {.depth = 4}, [&](Sample<Counter>&&) { fast_calls.fetch_add(1); }, fast_group,
-                             nullptr);
+  Subscription<Counter> slow(
+      topic, {.depth = 4},
+      [&](Sample<Counter>&&) {
+        eventually([&] { return release.load(); }, 10 * kSecond);
+        slow_done.store(true);
+      },
+      slow_group, nullptr);
+  Subscription<Counter> fast(
+      topic, {.depth = 4}, [&](Sample<Counter>&&) { fast_calls.fetch_add(1); }, fast_group,
+      nullptr);
   MultiThreadedExecutor executor(2);
   executor.add(slow);
   executor.add(fast);

@@ -1,12 +1,13 @@
-#include "executors/latency_histogram.hpp"
-
 #include <gtest/gtest.h>
+
+#include "executors/latency_histogram.hpp"
 
 namespace scancrew {
 namespace {
 
 TEST(LatencyHistogram, BucketEdgesEncloseTheirValues) {
-  for (uint64_t v : {0ull, 1ull, 7ull, 8ull, 9ull, 15ull, 16ull, 1000ull, 123456789ull, 1ull << 40}) {
+  for (uint64_t v :
+       {0ull, 1ull, 7ull, 8ull, 9ull, 15ull, 16ull, 1000ull, 123456789ull, 1ull << 40}) {
     const int b = LatencyHistogram::bucket_of(v);
     EXPECT_LE(v, LatencyHistogram::upper_edge(b)) << v;
     if (b > 0) {

@@ -2,10 +2,9 @@
 // one fails with a message naming the file, the key and what is allowed, and starts
 // nothing.
 
-#include "executors/launch.hpp"
-
 #include <gtest/gtest.h>
 
+#include "executors/launch.hpp"
 #include "tests/executors/test_components.hpp"
 
 namespace scancrew {
@@ -70,14 +69,18 @@ TEST(Launch, UnknownComponentTypeListsTheRegisteredOnes) {
 components:
   - {name: a, type: test_talkr}
 )");
-  EXPECT_NE(e.find("bad.yaml:3: components[0].type: unknown component 'test_talkr'; registered:"), std::string::npos) << e;
+  EXPECT_NE(e.find("bad.yaml:3: components[0].type: unknown component 'test_talkr'; registered:"),
+            std::string::npos)
+      << e;
   EXPECT_NE(e.find("test_talker"), std::string::npos) << e;
 }
 
 TEST(Launch, MissingParameterNamesTheKey) {
   const std::string e = errors_of("components:\n  - {name: a, type: test_talker}\n");
-  EXPECT_NE(e.find("components[0].params.period_s: missing required parameter; allowed: a number in [1e-06, 100]"),
-            std::string::npos) << e;
+  EXPECT_NE(e.find("components[0].params.period_s: missing required parameter; allowed: a number "
+                   "in [1e-06, 100]"),
+            std::string::npos)
+      << e;
 }
 
 TEST(Launch, MistypedAndOutOfRangeParametersNameTheKeyAndTheRange) {
@@ -89,9 +92,13 @@ components:
       period_s: 1000
       start: minus one
 )");
-  EXPECT_NE(e.find("bad.yaml:6: components[0].params.period_s: 1000 is out of range; allowed: a number in [1e-06, 100]"),
-            std::string::npos) << e;
-  EXPECT_NE(e.find("bad.yaml:7: components[0].params.start: 'minus one' has the wrong type"), std::string::npos) << e;
+  EXPECT_NE(e.find("bad.yaml:6: components[0].params.period_s: 1000 is out of range; allowed: a "
+                   "number in [1e-06, 100]"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("bad.yaml:7: components[0].params.start: 'minus one' has the wrong type"),
+            std::string::npos)
+      << e;
 }
 
 TEST(Launch, UnknownKeysAreErrors) {
@@ -100,14 +107,21 @@ executor: {type: multi_threaded, thread: 2}
 components:
   - {name: a, type: test_talker, params: {period_s: 1}, remapp: {}}
 )");
-  EXPECT_NE(e.find("bad.yaml:2: executor.thread: unknown parameter; known: type, threads"), std::string::npos) << e;
-  EXPECT_NE(e.find("bad.yaml:4: components[0].remapp: unknown key; allowed: name, type"), std::string::npos) << e;
+  EXPECT_NE(e.find("bad.yaml:2: executor.thread: unknown parameter; known: type, threads"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("bad.yaml:4: components[0].remapp: unknown key; allowed: name, type"),
+            std::string::npos)
+      << e;
 }
 
 TEST(Launch, UnknownParameterIsAnError) {
-  const std::string e = errors_of("components:\n  - {name: a, type: test_talker, params: {period_s: 1, perod_s: 2}}\n");
-  EXPECT_NE(e.find("bad.yaml:2: components[0].params.perod_s: unknown parameter; known: period_s, start"),
-            std::string::npos) << e;
+  const std::string e = errors_of(
+      "components:\n  - {name: a, type: test_talker, params: {period_s: 1, perod_s: 2}}\n");
+  EXPECT_NE(
+      e.find("bad.yaml:2: components[0].params.perod_s: unknown parameter; known: period_s, start"),
+      std::string::npos)
+      << e;
 }
 
 TEST(Launch, TopicTypeMismatchNamesBothEndsAndStartsNothing) {
@@ -118,8 +132,10 @@ components:
   - {name: blobs, type: test_blob_listener, remap: {in: chatter}}
   - {name: listener, type: test_listener, remap: {in: chatter}}
 )");
-  EXPECT_NE(e.find("topic type mismatch on '/chatter': it carries 'scancrew/test/Counter' (used by /talker.out)"),
-            std::string::npos) << e;
+  EXPECT_NE(e.find("topic type mismatch on '/chatter': it carries 'scancrew/test/Counter' (used by "
+                   "/talker.out)"),
+            std::string::npos)
+      << e;
   EXPECT_NE(e.find("wants 'scancrew/test/Blob'"), std::string::npos) << e;
   EXPECT_EQ(test::Listener::activated.load(), activated_before);
 }
@@ -139,8 +155,10 @@ TEST(Launch, RemapOfAPortTheComponentDoesNotHaveIsAnError) {
 components:
   - {name: talker, type: test_talker, params: {period_s: 1}, remap: {output: chatter}}
 )");
-  EXPECT_NE(e.find("components[0].remap.output: component 'test_talker' has no port 'output'; its ports: out"),
-            std::string::npos) << e;
+  EXPECT_NE(e.find("components[0].remap.output: component 'test_talker' has no port 'output'; its "
+                   "ports: out"),
+            std::string::npos)
+      << e;
 }
 
 TEST(Launch, StepExecutorNeedsTheSimClock) {
@@ -150,7 +168,9 @@ executor: {type: step}
 components:
   - {name: talker, type: test_talker, params: {period_s: 1}}
 )");
-  EXPECT_NE(e.find("executor.type: 'step' runs on sim time; allowed with clock: sim only"), std::string::npos) << e;
+  EXPECT_NE(e.find("executor.type: 'step' runs on sim time; allowed with clock: sim only"),
+            std::string::npos)
+      << e;
 }
 
 TEST(Launch, BadValuesInTheTopLevelSectionsAreNamed) {
@@ -163,9 +183,13 @@ robots:
 components:
   - {name: talker, type: test_talker, params: {period_s: 1}}
 )");
-  EXPECT_NE(e.find("(top level).clock: 'lunar' is not allowed; allowed: wall, sim"), std::string::npos) << e;
-  EXPECT_NE(e.find("executor.threads: 0 is out of range; allowed: a non-negative integer in [1, 64]"),
-            std::string::npos) << e;
+  EXPECT_NE(e.find("(top level).clock: 'lunar' is not allowed; allowed: wall, sim"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(
+      e.find("executor.threads: 0 is out of range; allowed: a non-negative integer in [1, 64]"),
+      std::string::npos)
+      << e;
   EXPECT_NE(e.find("robots[1].id: 1 is used twice"), std::string::npos) << e;
   EXPECT_NE(e.find("robots[1].namespace: 'r 2' is not a name"), std::string::npos) << e;
 }
@@ -203,7 +227,8 @@ run: {duration_s: 0.3}
 components:
   - {name: talker, type: test_talker, params: {period_s: 0.01}, remap: {out: c}}
   - {name: listener, type: test_listener, remap: {in: c}}
-)", "wall.yaml");
+)",
+                                    "wall.yaml");
   ASSERT_TRUE(launch);
   const double ran = (*launch)->run();
   EXPECT_GE(ran, 0.3);

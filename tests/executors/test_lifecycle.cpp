@@ -10,7 +10,8 @@ namespace {
 using test::Listener;
 using test::Talker;
 
-ComponentContext context_for(Graph& graph, const std::string& name, std::map<std::string, std::string> remaps = {}) {
+ComponentContext context_for(Graph& graph, const std::string& name,
+                             std::map<std::string, std::string> remaps = {}) {
   ComponentContext c;
   c.graph = &graph;
   c.name = name;
@@ -56,7 +57,7 @@ TEST(Lifecycle, OnlyActiveComponentsRunCallbacks) {
   EXPECT_EQ(listener.received(), 0u);
   EXPECT_EQ(graph.find("/robot1/chatter")->stats().published, 0u);
 
-  ASSERT_TRUE(talker.activate());   // talker runs, listener's queue fills (depth 8)
+  ASSERT_TRUE(talker.activate());  // talker runs, listener's queue fills (depth 8)
   executor.run_until(200'000'000);
   EXPECT_EQ(listener.received(), 0u);
   ASSERT_TRUE(listener.activate());

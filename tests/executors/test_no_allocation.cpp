@@ -1,12 +1,12 @@
 // Steady-state publish and delivery allocate nothing on the heap. This binary replaces
 // the global operator new to count allocations while a window is open, on any thread.
 
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <cstdlib>
 #include <new>
 #include <thread>
-
-#include <gtest/gtest.h>
 
 #include "executors/executor.hpp"
 #include "executors/publisher.hpp"
@@ -19,12 +19,17 @@ std::atomic<size_t> g_allocations{0};
 }  // namespace
 
 void* operator new(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (g_counting.load(std::memory_order_relaxed))
+    g_allocations.fetch_add(1, std::memory_order_relaxed);
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
   throw std::bad_alloc();
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
 
 namespace scancrew {
 namespace {
@@ -57,8 +62,10 @@ TEST(NoAllocation, SteadyStatePublishAndDeliveryOnOneThreadAllocateNothing) {
   auto topic = std::make_shared<Topic<Blob>>("/blob", 4);
   Publisher<Blob> pub(topic, 0, &clock, nullptr);
   uint64_t sum = 0;
-  Subscription<Blob> a(topic, {.depth = 2}, [&](Sample<Blob>&& s) { sum += s->bytes[0]; }, group, nullptr);
-  Subscription<Blob> b(topic, {.depth = 1}, [&](Sample<Blob>&& s) { sum += s->bytes.size(); }, group, nullptr);
+  Subscription<Blob> a(
+      topic, {.depth = 2}, [&](Sample<Blob>&& s) { sum += s->bytes[0]; }, group, nullptr);
+  Subscription<Blob> b(
+      topic, {.depth = 1}, [&](Sample<Blob>&& s) { sum += s->bytes.size(); }, group, nullptr);
   SingleThreadedExecutor executor;
   executor.add(a);
   executor.add(b);
@@ -92,14 +99,16 @@ TEST(NoAllocation, SteadyStateDeliveryToAnotherThreadAllocatesNothing) {
   auto topic = std::make_shared<Topic<Blob>>("/blob", 4);
   Publisher<Blob> pub(topic, 0, &clock, nullptr);
   std::atomic<uint64_t> received{0};
-  Subscription<Blob> sub(topic, {.depth = 4},
-                         [&](Sample<Blob>&&) { received.fetch_add(1, std::memory_order_release); }, group, nullptr);
+  Subscription<Blob> sub(
+      topic, {.depth = 4},
+      [&](Sample<Blob>&&) { received.fetch_add(1, std::memory_order_release); }, group, nullptr);
   MultiThreadedExecutor executor(2);
   executor.add(sub);
   std::thread spinner([&] { executor.spin(); });
   const auto wait_for = [&](uint64_t n) {
     const int64_t give_up = monotonic_now_ns() + 5'000'000'000;
-    while (received.load(std::memory_order_acquire) < n && monotonic_now_ns() < give_up) std::this_thread::yield();
+    while (received.load(std::memory_order_acquire) < n && monotonic_now_ns() < give_up)
+      std::this_thread::yield();
     return received.load() >= n;
   };
   for (int i = 0; i < 16; ++i) {

@@ -1,6 +1,6 @@
-#include "executors/params.hpp"
-
 #include <gtest/gtest.h>
+
+#include "executors/params.hpp"
 
 namespace scancrew {
 namespace {
@@ -14,7 +14,8 @@ namespace {
 }
 
 TEST(ParamReader, ReadsTypedValuesAndKeepsDefaultsForMissingKeys) {
-  auto r = ParamReader::from_yaml_string("rate_hz: 12.5\ncount: 3\nname: left\nenabled: false\n", "t.yaml");
+  auto r = ParamReader::from_yaml_string("rate_hz: 12.5\ncount: 3\nname: left\nenabled: false\n",
+                                         "t.yaml");
   double rate = 1;
   uint32_t count = 0;
   std::string name;
@@ -38,7 +39,8 @@ TEST(ParamReader, NamesFileLineKeyAndWhatIsAllowed) {
   auto r = ParamReader::from_yaml_string("a: 1\nrate_hz: 5000\n", "cfg.yaml");
   double rate = 1;
   r.required("rate_hz", rate, {0.1, 1000});
-  EXPECT_TRUE(has_error(r, "cfg.yaml:2: params.rate_hz: 5000 is out of range; allowed: a number in [0.1, 1000]"));
+  EXPECT_TRUE(has_error(
+      r, "cfg.yaml:2: params.rate_hz: 5000 is out of range; allowed: a number in [0.1, 1000]"));
   EXPECT_DOUBLE_EQ(rate, 1);
 }
 
@@ -50,7 +52,8 @@ TEST(ParamReader, ReportsMissingRequiredParameters) {
 }
 
 TEST(ParamReader, ReportsMistypedValues) {
-  auto r = ParamReader::from_yaml_string("n: 2.5\nx: fast\nflag: maybe\nlist: [1, 2]\n", "cfg.yaml");
+  auto r =
+      ParamReader::from_yaml_string("n: 2.5\nx: fast\nflag: maybe\nlist: [1, 2]\n", "cfg.yaml");
   int n = 0;
   double x = 0;
   bool flag = false;
@@ -69,7 +72,8 @@ TEST(ParamReader, RejectsNegativeValuesForUnsignedFields) {
   auto r = ParamReader::from_yaml_string("size: -3\n", "cfg.yaml");
   uint64_t size = 1;
   r.optional("size", size);
-  EXPECT_TRUE(has_error(r, "params.size: '-3' has the wrong type; allowed: a non-negative integer"));
+  EXPECT_TRUE(
+      has_error(r, "params.size: '-3' has the wrong type; allowed: a non-negative integer"));
 }
 
 TEST(ParamReader, ReportsUnknownKeysWithTheKnownOnes) {

@@ -1,6 +1,6 @@
-#include "executors/sample_pool.hpp"
-
 #include <gtest/gtest.h>
+
+#include "executors/sample_pool.hpp"
 
 namespace scancrew {
 namespace {

@@ -1,11 +1,10 @@
-#include "executors/step_executor.hpp"
-
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
 #include "executors/publisher.hpp"
+#include "executors/step_executor.hpp"
 #include "executors/subscription.hpp"
 #include "executors/timer.hpp"
 #include "tests/executors/test_messages.hpp"
@@ -25,22 +24,31 @@ std::vector<std::string> run_pipeline(int64_t until_ns) {
   Publisher<Counter> pub1(first, 1, &clock, nullptr), pub2(second, 1, &clock, nullptr);
   std::vector<std::string> log;
   uint64_t n = 0;
-  Timer timer(clock, 10'000'000, [&] {
-    auto loan = pub1.loan();
-    (*loan)->value = ++n;
-    log.push_back(std::to_string(clock.now_ns()) + " tick " + std::to_string(n));
-    (void)pub1.publish(std::move(*loan));
-  }, group, nullptr);
-  Subscription<Counter> relay(first, {.depth = 4}, [&](Sample<Counter>&& s) {
-    auto loan = pub2.loan();
-    (*loan)->value = s->value * 10;
-    (*loan)->header.stamp_ns = s->header.stamp_ns;
-    (void)pub2.publish(std::move(*loan));
-  }, group, nullptr);
-  Subscription<Counter> sink(second, {.depth = 4}, [&](Sample<Counter>&& s) {
-    log.push_back(std::to_string(clock.now_ns()) + " got " + std::to_string(s->value) + " stamped " +
-                  std::to_string(s->header.stamp_ns));
-  }, group, nullptr);
+  Timer timer(
+      clock, 10'000'000,
+      [&] {
+        auto loan = pub1.loan();
+        (*loan)->value = ++n;
+        log.push_back(std::to_string(clock.now_ns()) + " tick " + std::to_string(n));
+        (void)pub1.publish(std::move(*loan));
+      },
+      group, nullptr);
+  Subscription<Counter> relay(
+      first, {.depth = 4},
+      [&](Sample<Counter>&& s) {
+        auto loan = pub2.loan();
+        (*loan)->value = s->value * 10;
+        (*loan)->header.stamp_ns = s->header.stamp_ns;
+        (void)pub2.publish(std::move(*loan));
+      },
+      group, nullptr);
+  Subscription<Counter> sink(
+      second, {.depth = 4},
+      [&](Sample<Counter>&& s) {
+        log.push_back(std::to_string(clock.now_ns()) + " got " + std::to_string(s->value) +
+                      " stamped " + std::to_string(s->header.stamp_ns));
+      },
+      group, nullptr);
   StepExecutor executor(clock);
   executor.add(timer);
   executor.add(relay);
@@ -68,7 +76,8 @@ TEST(StepExecutor, RunUntilInSmallStepsEqualsOneBigStep) {
   SimClock clock;
   CallbackGroup group("g", CallbackGroup::Type::kMutuallyExclusive);
   std::vector<int64_t> fired_at;
-  Timer timer(clock, 7, [&] { fired_at.push_back(clock.now_ns()); }, group, nullptr);
+  Timer timer(
+      clock, 7, [&] { fired_at.push_back(clock.now_ns()); }, group, nullptr);
   StepExecutor executor(clock);
   executor.add(timer);
   for (int64_t t = 3; t <= 30; t += 3) executor.run_until(t);
@@ -79,7 +88,8 @@ TEST(StepExecutorDeathTest, RejectsWallClockTimers) {
   SimClock sim;
   WallClock wall;
   CallbackGroup group("g", CallbackGroup::Type::kMutuallyExclusive);
-  Timer timer(wall, 1'000'000, [] {}, group, nullptr);
+  Timer timer(
+      wall, 1'000'000, [] {}, group, nullptr);
   StepExecutor executor(sim);
   EXPECT_DEATH(executor.add(timer), "sim time only");
 }

@@ -1,10 +1,9 @@
-#include "executors/topic.hpp"
-
 #include <gtest/gtest.h>
 
 #include "executors/executor.hpp"
 #include "executors/publisher.hpp"
 #include "executors/subscription.hpp"
+#include "executors/topic.hpp"
 #include "tests/executors/test_messages.hpp"
 
 namespace scancrew {
@@ -43,15 +42,18 @@ TEST_P(ZeroCopy, EverySubscriberReceivesThePublishersBuffer) {
 }
 
 INSTANTIATE_TEST_SUITE_P(PayloadSizes, ZeroCopy,
-                         ::testing::Values(size_t{64}, size_t{4096}, size_t{1} << 20, size_t{16} << 20));
+                         ::testing::Values(size_t{64}, size_t{4096}, size_t{1} << 20,
+                                           size_t{16} << 20));
 
 TEST(Topic, SlotGoesBackToThePoolWhenTheLastReaderDropsIt) {
   Fixture f;
   auto topic = std::make_shared<Topic<Counter>>("/c", 2);
   Publisher<Counter> pub(topic, 0, &f.clock, nullptr);
   Sample<Counter> kept_a, kept_b;
-  Subscription<Counter> a(topic, {.depth = 1}, [&](Sample<Counter>&& s) { kept_a = std::move(s); }, f.group, nullptr);
-  Subscription<Counter> b(topic, {.depth = 1}, [&](Sample<Counter>&& s) { kept_b = s; }, f.group, nullptr);
+  Subscription<Counter> a(
+      topic, {.depth = 1}, [&](Sample<Counter>&& s) { kept_a = std::move(s); }, f.group, nullptr);
+  Subscription<Counter> b(
+      topic, {.depth = 1}, [&](Sample<Counter>&& s) { kept_b = s; }, f.group, nullptr);
   ASSERT_TRUE(pub.publish(std::move(*pub.loan())));
   EXPECT_EQ(topic->pool().available(), 1u);  // queued in both
   ASSERT_TRUE(a.execute());
@@ -83,8 +85,9 @@ TEST(Topic, KeepLastDropsTheOldestAndCountsIt) {
   auto topic = std::make_shared<Topic<Counter>>("/c", 8);
   Publisher<Counter> pub(topic, 0, &f.clock, nullptr);
   std::vector<uint64_t> got;
-  Subscription<Counter> sub(topic, {.depth = 2, .history = History::kKeepLast},
-                            [&](Sample<Counter>&& s) { got.push_back(s->value); }, f.group, nullptr);
+  Subscription<Counter> sub(
+      topic, {.depth = 2, .history = History::kKeepLast},
+      [&](Sample<Counter>&& s) { got.push_back(s->value); }, f.group, nullptr);
   for (uint64_t v = 1; v <= 5; ++v) {
     auto loan = pub.loan();
     ASSERT_TRUE(loan) << "pool must not leak slots of dropped samples";
@@ -104,9 +107,11 @@ TEST(Topic, FailFastRejectsThePublishForEveryoneWhenAQueueIsFull) {
   auto topic = std::make_shared<Topic<Counter>>("/c", 8);
   Publisher<Counter> pub(topic, 0, &f.clock, nullptr);
   int calls_a = 0, calls_b = 0;
-  Subscription<Counter> a(topic, {.depth = 1, .history = History::kFailFast}, [&](Sample<Counter>&&) { ++calls_a; },
-                          f.group, nullptr);
-  Subscription<Counter> b(topic, {.depth = 4}, [&](Sample<Counter>&&) { ++calls_b; }, f.group, nullptr);
+  Subscription<Counter> a(
+      topic, {.depth = 1, .history = History::kFailFast}, [&](Sample<Counter>&&) { ++calls_a; },
+      f.group, nullptr);
+  Subscription<Counter> b(
+      topic, {.depth = 4}, [&](Sample<Counter>&&) { ++calls_b; }, f.group, nullptr);
   ASSERT_TRUE(pub.publish(std::move(*pub.loan())));
   auto second = pub.publish(std::move(*pub.loan()));
   ASSERT_FALSE(second);
@@ -128,8 +133,9 @@ TEST(Topic, PublishStampsTheHeader) {
   auto topic = std::make_shared<Topic<Counter>>("/c", 4);
   Publisher<Counter> pub(topic, 3, &clock, nullptr);
   std::vector<msg::Header> headers;
-  Subscription<Counter> sub(topic, {.depth = 4}, [&](Sample<Counter>&& s) { headers.push_back(s->header); },
-                            group, nullptr);
+  Subscription<Counter> sub(
+      topic, {.depth = 4}, [&](Sample<Counter>&& s) { headers.push_back(s->header); }, group,
+      nullptr);
   ASSERT_TRUE(pub.publish(std::move(*pub.loan())));
   auto loan = pub.loan();
   (*loan)->header.stamp_ns = 42;  // a capture time set by the writer is kept
@@ -162,7 +168,8 @@ TEST(Topic, StatsReportRateAndLatency) {
   Fixture f;
   auto topic = std::make_shared<Topic<Counter>>("/c", 4);
   Publisher<Counter> pub(topic, 0, &f.clock, nullptr);
-  Subscription<Counter> sub(topic, {.depth = 4}, [](Sample<Counter>&&) {}, f.group, nullptr);
+  Subscription<Counter> sub(
+      topic, {.depth = 4}, [](Sample<Counter>&&) {}, f.group, nullptr);
   for (int i = 0; i < 10; ++i) {
     ASSERT_TRUE(pub.publish(std::move(*pub.loan())));
     ASSERT_TRUE(sub.execute());

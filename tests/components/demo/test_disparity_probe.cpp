@@ -1,8 +1,7 @@
-#include "components/demo/disparity_probe.hpp"
-
 #include <gtest/gtest.h>
 
 #include "components/demo/demo_monitor.hpp"
+#include "components/demo/disparity_probe.hpp"
 #include "executors/launch.hpp"
 
 namespace scancrew::demo {
@@ -26,7 +25,8 @@ msg::StereoFrame random_dot_pair(uint32_t w, uint32_t h, uint32_t d) {
 }
 
 TEST(DisparityProbe, FindsTheShiftOfARandomDotPair) {
-  for (uint32_t d : {1u, 7u, 16u, 40u}) EXPECT_EQ(DisparityProbe::best_shift(random_dot_pair(128, 32, d), 48, 16), static_cast<int>(d));
+  for (uint32_t d : {1u, 7u, 16u, 40u})
+    EXPECT_EQ(DisparityProbe::best_shift(random_dot_pair(128, 32, d), 48, 16), static_cast<int>(d));
 }
 
 TEST(DisparityProbe, RejectsImagesNarrowerThanTheSearchRange) {
@@ -45,7 +45,8 @@ components:
   - {name: camera, type: demo_camera, params: {rate_hz: 20, width: 160, height: 48, disparity_px: 9}}
   - {name: probe, type: disparity_probe, params: {max_disparity_px: 20, band_rows: 16}}
   - {name: monitor, type: demo_monitor, params: {expected_disparity_px: 9}}
-)", "demo.yaml");
+)",
+                                    "demo.yaml");
   ASSERT_TRUE(launch) << launch.error().front();
   (*launch)->run();
   const auto& monitor = dynamic_cast<const DemoMonitor&>(*(*launch)->components().back());
