@@ -92,6 +92,14 @@ int main(int argc, char** argv) {
   int samples = 2000;
   ipc->add_flag("--json", json, "print one JSON object");
   ipc->add_option("--samples", samples, "messages per case")->check(CLI::Range(10, 1000000));
+  int spin_us = 0;
+  ipc->add_option("--spin-us", spin_us, "scancrew receiver: spin before blocking, us")
+      ->check(CLI::Range(0, 100000));
+  std::string fastdds_intraprocess = "full";
+  ipc->add_option(
+         "--fastdds-intraprocess", fastdds_intraprocess,
+         "Fast DDS intra-process delivery: full (library default) or off (data-sharing path)")
+      ->check(CLI::IsMember({"full", "off"}));
 
   CLI11_PARSE(app, argc, argv);
 
@@ -100,7 +108,10 @@ int main(int argc, char** argv) {
   if (graph->parsed()) return cmd_graph(graph_path);
   if (ipc->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
-    return scancrew::bench::run_ipc_bench({.samples = samples, .json = json});
+    return scancrew::bench::run_ipc_bench({.samples = samples,
+                                           .json = json,
+                                           .spin_us = spin_us,
+                                           .fastdds_intraprocess = fastdds_intraprocess == "full"});
 #else
     std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
     return 2;

@@ -7,8 +7,10 @@
 
 namespace scancrew {
 
-Executor::Executor(size_t num_threads) : num_threads_(num_threads) {
+Executor::Executor(size_t num_threads, int64_t spin_ns)
+    : num_threads_(num_threads), spin_ns_(spin_ns) {
   SCANCREW_CHECK(num_threads >= 1, "an executor needs at least one thread");
+  SCANCREW_CHECK(spin_ns >= 0, "spin time must not be negative");
 }
 
 Executor::~Executor() {
@@ -90,6 +92,18 @@ void Executor::wait_for_work_locked(std::unique_lock<std::mutex>& lock, uint64_t
   sleepers_.fetch_sub(1, std::memory_order_seq_cst);
 }
 
+bool Executor::spin_for_work(uint64_t seen_epoch) const {
+  if (spin_ns_ == 0) return false;
+  const int64_t until = monotonic_now_ns() + spin_ns_;
+  do {
+    if (epoch_.load(std::memory_order_acquire) != seen_epoch) return true;
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  } while (monotonic_now_ns() < until && !stop_.load(std::memory_order_relaxed));
+  return false;
+}
+
 void Executor::worker_loop() {
   while (!stop_.load(std::memory_order_acquire)) {
     const uint64_t seen = epoch_.load(std::memory_order_seq_cst);
@@ -99,6 +113,9 @@ void Executor::worker_loop() {
       run(e);
       continue;
     }
+    lock.unlock();
+    if (spin_for_work(seen)) continue;
+    lock.lock();
     wait_for_work_locked(lock, seen, Executable::kNoDeadline);
   }
 }

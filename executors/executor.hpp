@@ -4,8 +4,9 @@
 //
 // A thread with nothing to do sleeps on a condition variable until a subscription
 // receives a sample (wake()), a sim clock advances, or the earliest wall-timer deadline.
-// It never polls. With N threads, spin() runs N-1 workers plus the calling thread;
-// callback groups decide which callbacks may overlap (see CallbackGroup).
+// It never polls; an optional bounded spin (spin_ns) may precede the sleep. With N threads, spin()
+// runs N-1 workers plus the calling thread; callback groups decide which callbacks may overlap (see
+// CallbackGroup).
 //
 // Thread safety: add()/remove() at set-up or between spins; spin*(), stop() and wake()
 // from any thread. Allocation: add()/remove() and starting threads allocate; the spin
@@ -26,7 +27,10 @@ namespace scancrew {
 
 class Executor : public WakeTarget {
  public:
-  explicit Executor(size_t num_threads);
+  // spin_ns: after running out of work, a spin() thread watches for new work this long
+  // before it blocks (0: block at once). Trades CPU for hand-over latency: waking a
+  // blocked thread on another core costs tens of µs on a VM (docs/bench_ipc.md).
+  explicit Executor(size_t num_threads, int64_t spin_ns = 0);
   ~Executor() override;
   Executor(const Executor&) = delete;
   Executor& operator=(const Executor&) = delete;
@@ -57,7 +61,11 @@ class Executor : public WakeTarget {
   void wait_for_work_locked(std::unique_lock<std::mutex>& lock, uint64_t seen_epoch,
                             int64_t until_ns);
 
+  // Spins at most spin_ns_ for the epoch to move; true when it did.
+  bool spin_for_work(uint64_t seen_epoch) const;
+
   const size_t num_threads_;
+  const int64_t spin_ns_;
   std::mutex mutex_;  // guards executables_ and rr_; the mutex of cv_
   std::condition_variable cv_;
   std::vector<Executable*> executables_;
@@ -71,12 +79,13 @@ class Executor : public WakeTarget {
 
 class SingleThreadedExecutor final : public Executor {
  public:
-  SingleThreadedExecutor() : Executor(1) {}
+  explicit SingleThreadedExecutor(int64_t spin_ns = 0) : Executor(1, spin_ns) {}
 };
 
 class MultiThreadedExecutor final : public Executor {
  public:
-  explicit MultiThreadedExecutor(size_t num_threads) : Executor(num_threads) {}
+  explicit MultiThreadedExecutor(size_t num_threads, int64_t spin_ns = 0)
+      : Executor(num_threads, spin_ns) {}
 };
 
 }  // namespace scancrew

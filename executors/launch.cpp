@@ -91,6 +91,7 @@ class LaunchBuilder {
     exec.choice("type", type, {"single_threaded", "multi_threaded", "step"});
     uint64_t threads = 2;
     exec.optional("threads", threads, {1, 64});
+    exec.optional("spin_us", s.spin_us, {0, 1e6});
     exec.finish();
     merge(exec);
     s.executor = type == "step"             ? LaunchSettings::ExecutorType::kStep
@@ -336,7 +337,8 @@ class LaunchBuilder {
       for (auto& c : launch.components_)
         for (Executable* e : c->executables()) launch.step_executor_->add(*e);
     } else {
-      launch.executor_ = std::make_unique<Executor>(s.threads);
+      launch.executor_ =
+          std::make_unique<Executor>(s.threads, static_cast<int64_t>(s.spin_us * 1e3));
       for (auto& c : launch.components_)
         for (Executable* e : c->executables()) launch.executor_->add(*e);
     }

@@ -30,6 +30,7 @@ struct LaunchSettings {
   ClockType clock = ClockType::kWall;
   ExecutorType executor = ExecutorType::kSingleThreaded;
   size_t threads = 1;
+  double spin_us = 0.0;            // threaded executors: bounded spin before blocking
   double duration_s = 0.0;         // 0: until request_stop()
   double sim_step_s = 0.01;        // sim clock: time advanced per step
   double real_time_factor = 0.0;   // sim clock, threaded executor: 0 = as fast as possible

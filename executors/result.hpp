@@ -26,13 +26,10 @@ Unexpected<std::decay_t<E>> make_unexpected(E&& e) {
 template <class T, class E>
 class [[nodiscard]] Result {
  public:
-  Result(T value)
-      : v_(std::in_place_index<0>, std::move(value)) {
-  }  // NOLINT(google-explicit-constructor): implicit like std::expected
+  // implicit from a value or an Unexpected, like std::expected
+  Result(T value) : v_(std::in_place_index<0>, std::move(value)) {}
   template <class G>
-  Result(Unexpected<G> e)
-      : v_(std::in_place_index<1>, std::move(e.error)) {
-  }  // NOLINT(google-explicit-constructor): implicit like std::expected
+  Result(Unexpected<G> e) : v_(std::in_place_index<1>, std::move(e.error)) {}
 
   bool has_value() const { return v_.index() == 0; }
   explicit operator bool() const { return has_value(); }
@@ -69,9 +66,7 @@ class [[nodiscard]] Result<void, E> {
  public:
   Result() = default;
   template <class G>
-  Result(Unexpected<G> e)
-      : error_(std::move(e.error)) {
-  }  // NOLINT(google-explicit-constructor): implicit like std::expected
+  Result(Unexpected<G> e) : error_(std::move(e.error)) {}
 
   bool has_value() const { return !error_.has_value(); }
   explicit operator bool() const { return has_value(); }

@@ -5,7 +5,7 @@
 
 namespace scancrew {
 
-Timer::Timer(const Clock& clock, int64_t period_ns, Callback callback, CallbackGroup& group,
+Timer::Timer(Clock& clock, int64_t period_ns, Callback callback, CallbackGroup& group,
              const std::atomic<bool>* active)
     : Executable(group, active),
       clock_(clock),
@@ -46,9 +46,7 @@ bool Timer::execute() {
 void Timer::set_wake_target(WakeTarget* target) {
   if (clock_.type() != ClockType::kSim) return;
   // a sim timer becomes due when the sim clock advances: ask the clock to wake us
-  auto& sim = const_cast<SimClock&>(static_cast<const SimClock&>(
-      clock_));  // NOLINT(cppcoreguidelines-pro-type-const-cast): listeners are bookkeeping, time
-                 // itself stays read-only
+  auto& sim = static_cast<SimClock&>(clock_);
   if (listener_id_ >= 0) {
     sim.remove_listener(listener_id_);
     listener_id_ = -1;

@@ -19,7 +19,7 @@ class Timer final : public Executable {
  public:
   using Callback = std::function<void()>;
 
-  Timer(const Clock& clock, int64_t period_ns, Callback callback, CallbackGroup& group,
+  Timer(Clock& clock, int64_t period_ns, Callback callback, CallbackGroup& group,
         const std::atomic<bool>* active);
   ~Timer() override;
 
@@ -38,7 +38,7 @@ class Timer final : public Executable {
  private:
   int64_t now_ns() const;
 
-  const Clock& clock_;
+  Clock& clock_;
   int64_t period_ns_;
   Callback callback_;
   std::atomic<int64_t> next_ns_;

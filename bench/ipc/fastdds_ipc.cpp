@@ -6,6 +6,7 @@
 //  - cross_thread: a reader thread blocked in a WaitSet on DATA_AVAILABLE takes it.
 
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 
 #include <array>
 #include <atomic>
@@ -24,6 +25,7 @@
 #include <memory>
 #include <thread>
 
+#include "bench/ipc/cpu_pinning.hpp"
 #include "bench/ipc/ipc_bench.hpp"
 #include "bench/ipc/latency_samples.hpp"
 #include "executors/clock.hpp"
@@ -153,7 +155,9 @@ IpcResult run_case(bool cross_thread, const IpcOptions& options) {
 
   std::thread reader_thread;
   if (cross_thread) {
+    pin_to_cpu(0);
     reader_thread = std::thread([&] {
+      pin_to_cpu(1);
       dds::WaitSet waitset;
       dds::StatusCondition& condition = reader->get_statuscondition();
       condition.set_enabled_statuses(dds::StatusMask::data_available());
@@ -167,7 +171,7 @@ IpcResult run_case(bool cross_thread, const IpcOptions& options) {
     });
   }
 
-  const int warmup = 100;
+  const int warmup = 500;  // unrecorded: the receiving thread and core settle
   for (int i = 0; i < warmup + options.samples; ++i) {
     measuring.store(i >= warmup, std::memory_order_relaxed);
     const uint64_t before = received.load(std::memory_order_acquire);
@@ -192,7 +196,10 @@ IpcResult run_case(bool cross_thread, const IpcOptions& options) {
     if (received.load() == before) ++result.lost;
   }
   stop.store(true);
-  if (reader_thread.joinable()) reader_thread.join();
+  if (reader_thread.joinable()) {
+    reader_thread.join();
+    unpin();
+  }
 
   participant->delete_contained_entities();
   factory->delete_participant(participant);
@@ -209,6 +216,11 @@ void add_case(std::vector<IpcResult>& out, size_t payload, const IpcOptions& opt
 }  // namespace
 
 std::vector<IpcResult> bench_fastdds(const IpcOptions& options) {
+  eprosima::fastrtps::LibrarySettingsAttributes library;
+  library.intraprocess_delivery = options.fastdds_intraprocess
+                                      ? eprosima::fastrtps::INTRAPROCESS_FULL
+                                      : eprosima::fastrtps::INTRAPROCESS_OFF;
+  eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(library);
   std::vector<IpcResult> out;
   for (size_t payload : options.payload_bytes) {
     add_case<64>(out, payload, options);

@@ -16,6 +16,9 @@ struct IpcOptions {
   bool json = false;   // one JSON object on stdout instead of a table
   std::vector<size_t> payload_bytes = {64, 4096, 256 << 10, 1 << 20, 4 << 20, 16 << 20};
   int gap_us = 50;  // pause between messages, so the receiver is asleep when one comes
+  int spin_us = 0;  // scancrew's executor: bounded spin before blocking (Executor spin_ns)
+  bool fastdds_intraprocess =
+      true;  // Fast DDS INTRAPROCESS_FULL (library default) or OFF (data-sharing path)
 };
 
 struct IpcResult {
@@ -24,6 +27,7 @@ struct IpcResult {
   size_t payload_bytes = 0;
   double p50_us = 0, p99_us = 0, max_us = 0;
   size_t lost = 0;  // messages that never arrived (bounded wait)
+  int spin_us = 0;  // receiver spin before blocking (scancrew only)
 };
 
 std::vector<IpcResult> bench_scancrew(const IpcOptions& options);

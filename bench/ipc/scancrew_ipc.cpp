@@ -8,6 +8,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/ipc/cpu_pinning.hpp"
 #include "bench/ipc/ipc_bench.hpp"
 #include "bench/ipc/latency_samples.hpp"
 #include "executors/executor.hpp"
@@ -54,14 +55,21 @@ IpcResult run_case(size_t payload, bool cross_thread, const IpcOptions& options)
         received.fetch_add(1, std::memory_order_release);
       },
       group, nullptr);
-  SingleThreadedExecutor executor;
+  SingleThreadedExecutor executor(int64_t{options.spin_us} * 1000);
   executor.add(sub);
   warm_pool(pub, payload);
   std::thread spinner;
-  if (cross_thread) spinner = std::thread([&] { executor.spin(); });
+  if (cross_thread) {
+    pin_to_cpu(0);
+    spinner = std::thread([&] {
+      pin_to_cpu(1);
+      executor.spin();
+    });
+  }
 
   IpcResult result{"scancrew", cross_thread ? "cross_thread" : "same_thread", payload};
-  const int warmup = 100;
+  result.spin_us = options.spin_us;
+  const int warmup = 500;  // unrecorded: the receiving thread and core settle
   for (int i = 0; i < warmup + options.samples; ++i) {
     measuring.store(i >= warmup, std::memory_order_relaxed);
     const uint64_t before = received.load(std::memory_order_acquire);
@@ -86,6 +94,7 @@ IpcResult run_case(size_t payload, bool cross_thread, const IpcOptions& options)
   if (cross_thread) {
     executor.stop();
     spinner.join();
+    unpin();
   }
   executor.remove(sub);
   samples.summarise(result);

@@ -107,7 +107,7 @@ executor: {type: multi_threaded, thread: 2}
 components:
   - {name: a, type: test_talker, params: {period_s: 1}, remapp: {}}
 )");
-  EXPECT_NE(e.find("bad.yaml:2: executor.thread: unknown parameter; known: type, threads"),
+  EXPECT_NE(e.find("bad.yaml:2: executor.thread: unknown parameter; known: type, threads, spin_us"),
             std::string::npos)
       << e;
   EXPECT_NE(e.find("bad.yaml:4: components[0].remapp: unknown key; allowed: name, type"),
