@@ -39,12 +39,14 @@ void print_topic_stats(std::FILE* out, const Graph& graph) {
   std::fprintf(out, "%-32s %9s %9s %9s %7s %7s %9s %9s %9s\n", "topic", "published", "rate_hz",
                "taken", "dropped", "no_loan", "p50_us", "p99_us", "max_us");
   for (const TopicStats& s : graph.stats())
-    std::fprintf(out, "%-32s %9llu %9.1f %9llu %7llu %7llu %9.1f %9.1f %9.1f\n", s.name.c_str(),
-                 static_cast<unsigned long long>(s.published), s.rate_hz,
-                 static_cast<unsigned long long>(s.taken),
-                 static_cast<unsigned long long>(s.dropped + s.rejected),
-                 static_cast<unsigned long long>(s.loan_failures), s.latency_p50_ns * 1e-3,
-                 s.latency_p99_ns * 1e-3, s.latency_max_ns * 1e-3);
+    std::fprintf(
+        out, "%-32s %9llu %9.1f %9llu %7llu %7llu %9.1f %9.1f %9.1f\n", s.name.c_str(),
+        static_cast<unsigned long long>(s.published), s.rate_hz,
+        static_cast<unsigned long long>(s.taken),
+        static_cast<unsigned long long>(s.dropped) + static_cast<unsigned long long>(s.rejected),
+        static_cast<unsigned long long>(s.loan_failures),
+        static_cast<double>(s.latency_p50_ns) * 1e-3, static_cast<double>(s.latency_p99_ns) * 1e-3,
+        static_cast<double>(s.latency_max_ns) * 1e-3);
 }
 
 void print_progress(std::FILE* out, const Graph& graph, double elapsed_s, double duration_s,

@@ -7,7 +7,8 @@ namespace scancrew::log {
 
 Level threshold() {
   static const Level level = [] {
-    const char* env = std::getenv("SCANCREW_LOG");
+    const char* env = std::getenv(
+        "SCANCREW_LOG");  // NOLINT(concurrency-mt-unsafe): read once, in a static initialiser
     if (env == nullptr) return Level::kInfo;
     if (std::strcmp(env, "error") == 0) return Level::kError;
     if (std::strcmp(env, "warn") == 0) return Level::kWarn;
@@ -19,7 +20,7 @@ Level threshold() {
 
 void write(Level level, const char* format, ...) {
   if (level > threshold()) return;
-  static const char* const kNames[] = {"error", "warn", "info", "debug"};
+  static constexpr const char* kNames[] = {"error", "warn", "info", "debug"};
   char message[1024];
   va_list args;
   va_start(args, format);

@@ -166,6 +166,7 @@ void ParamReader::required(std::string_view key, T& value, Range range) {
   read(key, value, range, true);
 }
 
+// NOLINTBEGIN(bugprone-macro-parentheses): T is a type; parentheses would not parse
 #define SCANCREW_PARAM_TYPE(T)                                         \
   template void ParamReader::optional<T>(std::string_view, T&, Range); \
   template void ParamReader::required<T>(std::string_view, T&, Range);
@@ -177,6 +178,7 @@ SCANCREW_PARAM_TYPE(uint64_t)
 SCANCREW_PARAM_TYPE(bool)
 SCANCREW_PARAM_TYPE(std::string)
 #undef SCANCREW_PARAM_TYPE
+// NOLINTEND(bugprone-macro-parentheses)
 
 void ParamReader::choice(std::string_view key, std::string& value,
                          std::initializer_list<std::string_view> allowed, bool is_required) {
