@@ -7,8 +7,8 @@ namespace scancrew::log {
 
 Level threshold() {
   static const Level level = [] {
-    const char* env = std::getenv(
-        "SCANCREW_LOG");  // NOLINT(concurrency-mt-unsafe): read once, in a static initialiser
+    // NOLINTNEXTLINE(concurrency-mt-unsafe): read once, in a static initialiser
+    const char* env = std::getenv("SCANCREW_LOG");
     if (env == nullptr) return Level::kInfo;
     if (std::strcmp(env, "error") == 0) return Level::kError;
     if (std::strcmp(env, "warn") == 0) return Level::kWarn;
