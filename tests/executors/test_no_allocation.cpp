@@ -56,6 +56,15 @@ bool publish_one(Publisher<Blob>& pub, size_t bytes, uint8_t fill) {
   return pub.publish(std::move(*loan)).has_value();
 }
 
+// Gives every slot of the pool the capacity of `bytes` (the warm-up of a recycled pool).
+void warm_every_slot(Publisher<Blob>& pub, size_t bytes) {
+  std::vector<Loan<Blob>> all;
+  while (auto loan = pub.loan()) {
+    (*loan)->bytes.resize(bytes);
+    all.push_back(std::move(loan).value());
+  }
+}
+
 TEST(NoAllocation, SteadyStatePublishAndDeliveryOnOneThreadAllocateNothing) {
   WallClock clock;
   CallbackGroup group("g", CallbackGroup::Type::kMutuallyExclusive);
@@ -69,15 +78,8 @@ TEST(NoAllocation, SteadyStatePublishAndDeliveryOnOneThreadAllocateNothing) {
   SingleThreadedExecutor executor;
   executor.add(a);
   executor.add(b);
-  // warm-up: every slot of the pool gets the capacity of the largest payload
-  {
-    std::vector<Loan<Blob>> all;
-    while (auto loan = pub.loan()) {
-      (*loan)->bytes.resize(1 << 20);
-      all.push_back(std::move(loan).value());
-    }
-    ASSERT_EQ(all.size(), 4u);
-  }
+  warm_every_slot(pub, 1 << 20);
+  ASSERT_EQ(topic->pool().available(), 4u);
   AllocationWindow window;
   for (int i = 0; i < 1000; ++i) {
     ASSERT_TRUE(publish_one(pub, (i % 2 ? 1 << 20 : 1000), static_cast<uint8_t>(i)));
@@ -111,6 +113,8 @@ TEST(NoAllocation, SteadyStateDeliveryToAnotherThreadAllocatesNothing) {
       std::this_thread::yield();
     return received.load() >= n;
   };
+  // however the threads interleave, any slot may be in use: warm them all
+  warm_every_slot(pub, 4096);
   for (int i = 0; i < 16; ++i) {
     ASSERT_TRUE(publish_one(pub, 4096, 1));
     ASSERT_TRUE(wait_for(static_cast<uint64_t>(i) + 1));
