@@ -46,6 +46,10 @@ class ParamReader {
 
   // Reports keys that no read asked for (typos). Call after the last read.
   void finish();
+  // Declares a key read by other means (a nested list), so finish() accepts it.
+  void mark_known(std::string_view key) { asked_.emplace_back(key); }
+  // Reports a problem with a key that the typed reads cannot see (a missing file, say).
+  void report(std::string_view key, const std::string& message) { error(key, message); }
 
   bool ok() const { return errors_.empty(); }
   const std::vector<std::string>& errors() const { return errors_; }

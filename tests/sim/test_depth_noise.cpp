@@ -1,0 +1,65 @@
+#include "sim/depth_noise.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace scancrew::sim {
+namespace {
+
+struct Stats {
+  double mean, stddev;
+};
+
+Stats stats_of(const std::vector<float>& v, uint32_t w, uint32_t h) {
+  // interior only: the border has fewer neighbours in the smoothing
+  double sum = 0, sq = 0;
+  size_t n = 0;
+  for (uint32_t y = 1; y + 1 < h; ++y)
+    for (uint32_t x = 1; x + 1 < w; ++x) {
+      const double z = v[size_t{y} * w + x];
+      sum += z;
+      sq += z * z;
+      ++n;
+    }
+  const double mean = sum / n;
+  return {mean, std::sqrt(sq / n - mean * mean)};
+}
+
+TEST(DepthNoise, SigmaFollowsTheThesisModel) {
+  // sigma(z) = |e_d| z^2 / (f B): table 2.1 values, z = 4 m
+  EXPECT_NEAR(depth_sigma_m(4.0, 0.1, 376, 0.11), 0.1 * 16 / (376 * 0.11), 1e-12);
+  EXPECT_DOUBLE_EQ(depth_sigma_m(2.0, -0.1, 100, 0.1), depth_sigma_m(2.0, 0.1, 100, 0.1));
+}
+
+TEST(DepthNoise, NoiseHasTheModelledSpreadAndSmoothingReducesIt) {
+  const uint32_t w = 200, h = 200;
+  const double z = 4.0, sigma = depth_sigma_m(z, 0.1, 160, 0.26);
+  DepthNoiseParams p{.add_noise = true, .disparity_error_px = 0.1, .fx_px = 160, .baseline_m = 0.26,
+                     .smoothing = false, .min_range_m = 0.3, .max_range_m = 10};
+  std::mt19937_64 rng(3);
+  std::vector<float> scratch, raw(size_t{w} * h, static_cast<float>(z));
+  apply_depth_noise(raw, w, h, p, rng, scratch);
+  const Stats noisy = stats_of(raw, w, h);
+  EXPECT_NEAR(noisy.mean, z, 3 * sigma / std::sqrt(w * h));
+  EXPECT_NEAR(noisy.stddev, sigma, 0.03 * sigma);
+  // a [1 2 1]x[1 2 1]/16 kernel keeps sqrt(36/256) = 0.375 of white noise's spread
+  p.smoothing = true;
+  std::vector<float> smooth(size_t{w} * h, static_cast<float>(z));
+  apply_depth_noise(smooth, w, h, p, rng, scratch);
+  EXPECT_NEAR(stats_of(smooth, w, h).stddev, 0.375 * sigma, 0.05 * sigma);
+}
+
+TEST(DepthNoise, OutOfRangeAndNaNStayNaNAndDoNotLeakIntoNeighbours) {
+  const uint32_t w = 3, h = 1;
+  std::vector<float> d = {1.0f, std::numeric_limits<float>::quiet_NaN(), 50.0f}, scratch;
+  DepthNoiseParams p{.add_noise = false, .smoothing = true, .min_range_m = 0.3, .max_range_m = 5};
+  std::mt19937_64 rng(1);
+  apply_depth_noise(d, w, h, p, rng, scratch);
+  EXPECT_FLOAT_EQ(d[0], 1.0f);
+  EXPECT_TRUE(std::isnan(d[1]));
+  EXPECT_TRUE(std::isnan(d[2]));
+}
+
+}  // namespace
+}  // namespace scancrew::sim
