@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "cli/render_command.hpp"
 #include "cli/report.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
@@ -85,9 +86,31 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
 
+  scancrew::cli::RenderOptions render_options;
+  auto* render =
+      app.add_subcommand("render", "render a scene: stereo pair, depth and a top view, as PNG");
+  render->add_option("scene", render_options.scene_path, "scene file (YAML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  render->add_option("--out", render_options.out_dir, "output folder")->required();
+  render
+      ->add_option("--pose", render_options.pose,
+                   "x,y,yaw_deg of the robot (default: a free corner)")
+      ->delimiter(',')
+      ->expected(3);
+  render->add_option("--kind", render_options.kind, "robot kind")
+      ->check(CLI::IsMember({"ground", "multirotor"}));
+  render->add_option("--z", render_options.z_m, "multirotor altitude, m");
+  render->add_option("--width", render_options.width, "image width")->check(CLI::Range(16u, 1920u));
+  render
+      ->add_option("--height", render_options.height,
+                   "image height (with the width, sets the FOV aspect)")
+      ->check(CLI::Range(16u, 1080u));
+
   auto* bench = app.add_subcommand("bench", "benchmarks");
   bench->require_subcommand(1);
-  auto* ipc = bench->add_subcommand("ipc", "publish -> callback latency: scancrew vs Fast DDS");
+  auto* ipc =
+      bench->add_subcommand("ipc", "publish -> callback latency: scancrew vs Fast DDS and iceoryx");
   bool json = false;
   int samples = 2000;
   ipc->add_flag("--json", json, "print one JSON object");
@@ -106,6 +129,7 @@ int main(int argc, char** argv) {
   if (run->parsed()) return cmd_run(launch_path);
   if (components->parsed()) return cmd_components();
   if (graph->parsed()) return cmd_graph(graph_path);
+  if (render->parsed()) return scancrew::cli::run_render(render_options);
   if (ipc->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_ipc_bench({.samples = samples,

@@ -9,8 +9,9 @@ double depth_sigma_m(double z_m, double disparity_error_px, double fx_px, double
   return std::abs(disparity_error_px) * z_m * z_m / (fx_px * baseline_m);
 }
 
-void apply_depth_noise(std::vector<float>& depth_m, uint32_t width, uint32_t height, const DepthNoiseParams& p,
-                       std::mt19937_64& rng, std::vector<float>& scratch) {
+void apply_depth_noise(std::vector<float>& depth_m, uint32_t width, uint32_t height,
+                       const DepthNoiseParams& p, std::mt19937_64& rng,
+                       std::vector<float>& scratch) {
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   const size_t n = size_t{width} * height;
   // range gate first: the sensor does not see outside [min, max]
@@ -23,7 +24,8 @@ void apply_depth_noise(std::vector<float>& depth_m, uint32_t width, uint32_t hei
     for (size_t i = 0; i < n; ++i) {
       const float z = depth_m[i];
       if (std::isnan(z)) continue;
-      depth_m[i] = static_cast<float>(z + unit(rng) * depth_sigma_m(z, p.disparity_error_px, p.fx_px, p.baseline_m));
+      depth_m[i] = static_cast<float>(
+          z + unit(rng) * depth_sigma_m(z, p.disparity_error_px, p.fx_px, p.baseline_m));
     }
   }
   if (!p.smoothing) return;

@@ -23,7 +23,8 @@ struct DepthNoiseParams {
 double depth_sigma_m(double z_m, double disparity_error_px, double fx_px, double baseline_m);
 
 // In place; `scratch` is reused between calls (no allocation once sized).
-void apply_depth_noise(std::vector<float>& depth_m, uint32_t width, uint32_t height, const DepthNoiseParams& p,
-                       std::mt19937_64& rng, std::vector<float>& scratch);
+void apply_depth_noise(std::vector<float>& depth_m, uint32_t width, uint32_t height,
+                       const DepthNoiseParams& p, std::mt19937_64& rng,
+                       std::vector<float>& scratch);
 
 }  // namespace scancrew::sim

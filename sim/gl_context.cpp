@@ -11,16 +11,20 @@ struct GlContext::Impl {
 };
 
 Result<std::unique_ptr<GlContext>, std::string> GlContext::create() {
-  auto get_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-  if (get_display == nullptr) return make_unexpected(std::string("no GL available: EGL lacks eglGetPlatformDisplayEXT"));
+  auto get_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+      eglGetProcAddress("eglGetPlatformDisplayEXT"));
+  if (get_display == nullptr)
+    return make_unexpected(std::string("no GL available: EGL lacks eglGetPlatformDisplayEXT"));
   // surfaceless Mesa: plain eglGetDisplay(EGL_DEFAULT_DISPLAY) needs an X server
   EGLDisplay display = get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
   EGLint major = 0, minor = 0;
   if (display == EGL_NO_DISPLAY || eglInitialize(display, &major, &minor) != EGL_TRUE)
-    return make_unexpected(std::string("no GL available: cannot initialise the EGL surfaceless display "
-                                       "(install libegl-mesa0 and libgl1-mesa-dri)"));
+    return make_unexpected(
+        std::string("no GL available: cannot initialise the EGL surfaceless display "
+                    "(install libegl-mesa0 and libgl1-mesa-dri)"));
   // surfaceless displays offer pbuffer configs only (the default asks for windows)
-  const EGLint attributes[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+  const EGLint attributes[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
+                               EGL_OPENGL_BIT, EGL_NONE};
   EGLConfig config = nullptr;
   EGLint count = 0;
   if (eglChooseConfig(display, attributes, &config, 1, &count) != EGL_TRUE || count < 1) {

@@ -30,15 +30,26 @@ constexpr double kRobotInertia = 1.0;  // kg m^2 about every axis (only yaw turn
 
 }  // namespace
 
-std::string joint_name(const RobotSpec& robot, const char* axis) { return robot.name + "_" + axis; }
-std::string camera_name(const RobotSpec& robot, bool left) { return robot.name + (left ? "_left" : "_right"); }
-std::string body_name(const RobotSpec& robot) { return robot.name; }
+std::string joint_name(const RobotSpec& robot, const char* axis) {
+  return robot.name + "_" + axis;
+}
+std::string camera_name(const RobotSpec& robot, bool left) {
+  return robot.name + (left ? "_left" : "_right");
+}
+std::string body_name(const RobotSpec& robot) {
+  return robot.name;
+}
 
-double camera_height_m(const RobotSpec& robot) { return robot.camera.mount_up_m; }
+double camera_height_m(const RobotSpec& robot) {
+  return robot.camera.mount_up_m;
+}
 
-std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& robots, const MjcfOptions& o) {
-  const double sx = scene.max_m.x - scene.min_m.x, sy = scene.max_m.y - scene.min_m.y, sz = scene.max_m.z - scene.min_m.z;
-  const double cx = 0.5 * (scene.min_m.x + scene.max_m.x), cy = 0.5 * (scene.min_m.y + scene.max_m.y);
+std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& robots,
+                       const MjcfOptions& o) {
+  const double sx = scene.max_m.x - scene.min_m.x, sy = scene.max_m.y - scene.min_m.y,
+               sz = scene.max_m.z - scene.min_m.z;
+  const double cx = 0.5 * (scene.min_m.x + scene.max_m.x),
+               cy = 0.5 * (scene.min_m.y + scene.max_m.y);
   const double extent = std::sqrt(sx * sx + sy * sy + sz * sz);
   // depth buffer range: 2 cm to 4x the scene diagonal (relative to the extent, as MuJoCo wants)
   const double znear = 0.02 / extent, zfar = 4.0;
@@ -52,17 +63,20 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
     << "  <option timestep=\"" << o.timestep_s << "\" gravity=\"0 0 0\" integrator=\"Euler\"/>\n"
     << "  <statistic extent=\"" << extent << "\" center=\"" << vec(cx, cy, 0.5 * sz) << "\"/>\n"
     << "  <visual>\n"
-    << "    <global offwidth=\"" << o.offscreen_width << "\" offheight=\"" << o.offscreen_height << "\"/>\n"
+    << "    <global offwidth=\"" << o.offscreen_width << "\" offheight=\"" << o.offscreen_height
+    << "\"/>\n"
     << "    <quality offsamples=\"0\" shadowsize=\"0\"/>\n"
     << "    <map znear=\"" << znear << "\" zfar=\"" << zfar << "\"/>\n"
     << "    <headlight ambient=\"0.45 0.45 0.45\" diffuse=\"0.5 0.5 0.5\" specular=\"0 0 0\"/>\n"
     << "  </visual>\n"
     << "  <asset>\n"
-    << "    <texture name=\"dots\" type=\"2d\" builtin=\"flat\" width=\"1024\" height=\"1024\" rgb1=\"0.35 0.35 0.35\""
+    << "    <texture name=\"dots\" type=\"2d\" builtin=\"flat\" width=\"1024\" height=\"1024\" "
+       "rgb1=\"0.35 0.35 0.35\""
     << " mark=\"random\" random=\"0.5\" markrgb=\"0.95 0.95 0.95\"/>\n";
   const auto material = [&](const std::string& name, const Rgb& c) {
-    x << "    <material name=\"" << name << "\" texture=\"dots\" texuniform=\"true\" texrepeat=\"" << texrepeat << " "
-      << texrepeat << "\" rgba=\"" << rgb(c) << " 1\" specular=\"0\" shininess=\"0\"/>\n";
+    x << "    <material name=\"" << name << "\" texture=\"dots\" texuniform=\"true\" texrepeat=\""
+      << texrepeat << " " << texrepeat << "\" rgba=\"" << rgb(c)
+      << " 1\" specular=\"0\" shininess=\"0\"/>\n";
   };
   material("floor_mat", {0.8, 0.8, 0.75});
   material("wall_mat", {0.75, 0.8, 0.85});
@@ -76,11 +90,13 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
   x << "  </asset>\n  <worldbody>\n";
 
   // floor, ceiling, walls
-  x << "    <geom name=\"floor\" type=\"plane\" pos=\"" << vec(cx, cy, 0) << "\" size=\"" << 0.5 * sx + 1 << " "
-    << 0.5 * sy + 1 << " 0.1\" material=\"floor_mat\"" << kNoCollision << "/>\n";
+  x << "    <geom name=\"floor\" type=\"plane\" pos=\"" << vec(cx, cy, 0) << "\" size=\""
+    << 0.5 * sx + 1 << " " << 0.5 * sy + 1 << " 0.1\" material=\"floor_mat\"" << kNoCollision
+    << "/>\n";
   if (scene.ceiling)
-    x << "    <geom name=\"ceiling\" type=\"box\" pos=\"" << vec(cx, cy, scene.max_m.z + 0.05) << "\" size=\""
-      << vec(0.5 * sx + 0.2, 0.5 * sy + 0.2, 0.05) << "\" material=\"wall_mat\"" << kSolid << "/>\n";
+    x << "    <geom name=\"ceiling\" type=\"box\" pos=\"" << vec(cx, cy, scene.max_m.z + 0.05)
+      << "\" size=\"" << vec(0.5 * sx + 0.2, 0.5 * sy + 0.2, 0.05)
+      << "\" material=\"wall_mat\" group=\"1\"" << kSolid << "/>\n";
   if (scene.wall_height_m > 0) {
     const double t = scene.wall_thickness_m, h = scene.wall_height_m;
     struct Wall {
@@ -94,20 +110,22 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
         {"wall_west", scene.min_m.x - 0.5 * t, cy, 0.5 * t, 0.5 * sy},
     };
     for (const Wall& w : walls)
-      x << "    <geom name=\"" << w.name << "\" type=\"box\" pos=\"" << vec(w.x, w.y, 0.5 * h) << "\" size=\""
-        << vec(w.hx, w.hy, 0.5 * h) << "\" material=\"wall_mat\"" << kSolid << "/>\n";
+      x << "    <geom name=\"" << w.name << "\" type=\"box\" pos=\"" << vec(w.x, w.y, 0.5 * h)
+        << "\" size=\"" << vec(w.hx, w.hy, 0.5 * h) << "\" material=\"wall_mat\"" << kSolid
+        << "/>\n";
   }
   for (const auto& b : scene.boxes)
-    x << "    <geom name=\"" << b.name << "\" type=\"box\" pos=\"" << vec(b.center_m.x, b.center_m.y, b.center_m.z)
-      << "\" euler=\"0 0 " << b.yaw_rad << "\" size=\"" << vec(0.5 * b.size_m.x, 0.5 * b.size_m.y, 0.5 * b.size_m.z)
+    x << "    <geom name=\"" << b.name << "\" type=\"box\" pos=\""
+      << vec(b.center_m.x, b.center_m.y, b.center_m.z) << "\" euler=\"0 0 " << b.yaw_rad
+      << "\" size=\"" << vec(0.5 * b.size_m.x, 0.5 * b.size_m.y, 0.5 * b.size_m.z)
       << "\" material=\"obj_" << b.name << "\"" << kSolid << "/>\n";
   for (const auto& c : scene.cylinders)
     x << "    <geom name=\"" << c.name << "\" type=\"cylinder\" pos=\""
-      << vec(c.center_m.x, c.center_m.y, c.center_m.z) << "\" size=\"" << c.radius_m << " " << 0.5 * c.height_m
-      << "\" material=\"obj_" << c.name << "\"" << kSolid << "/>\n";
+      << vec(c.center_m.x, c.center_m.y, c.center_m.z) << "\" size=\"" << c.radius_m << " "
+      << 0.5 * c.height_m << "\" material=\"obj_" << c.name << "\"" << kSolid << "/>\n";
   for (const auto& m : scene.meshes)
-    x << "    <geom name=\"" << m.name << "\" type=\"mesh\" mesh=\"" << m.name << "_mesh\" material=\"obj_" << m.name
-      << "\"" << kNoCollision << "/>\n";
+    x << "    <geom name=\"" << m.name << "\" type=\"mesh\" mesh=\"" << m.name
+      << "_mesh\" material=\"obj_" << m.name << "\"" << kNoCollision << "/>\n";
 
   // robots
   for (const RobotSpec& r : robots) {
@@ -116,23 +134,31 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
     // a ground robot's body frame is on the floor under its centre; a multirotor's at its centre
     const double z0 = ground ? 0.0 : r.start_z_m;
     const double geom_z = ground ? b.half_z_m + 0.02 : 0.0;
-    x << "    <body name=\"" << body_name(r) << "\" pos=\"" << vec(r.start_x_m, r.start_y_m, z0) << "\">\n"
-      << "      <joint name=\"" << joint_name(r, "x") << "\" type=\"slide\" axis=\"1 0 0\" damping=\"0\"/>\n"
-      << "      <joint name=\"" << joint_name(r, "y") << "\" type=\"slide\" axis=\"0 1 0\" damping=\"0\"/>\n";
-    if (!ground) x << "      <joint name=\"" << joint_name(r, "z") << "\" type=\"slide\" axis=\"0 0 1\"/>\n";
-    x << "      <joint name=\"" << joint_name(r, "yaw") << "\" type=\"hinge\" axis=\"0 0 1\" ref=\"0\"/>\n"
-      << "      <inertial pos=\"0 0 0\" mass=\"" << kRobotMassKg << "\" diaginertia=\"" << vec(kRobotInertia, kRobotInertia, kRobotInertia) << "\"/>\n"
-      << "      <geom name=\"" << r.name << "_body\" type=\"box\" pos=\"" << vec(0, 0, geom_z) << "\" size=\""
-      << vec(b.half_x_m, b.half_y_m, b.half_z_m) << "\" material=\"robot_mat\""
+    x << "    <body name=\"" << body_name(r) << "\" pos=\"" << vec(r.start_x_m, r.start_y_m, z0)
+      << "\">\n"
+      << "      <joint name=\"" << joint_name(r, "x")
+      << "\" type=\"slide\" axis=\"1 0 0\" damping=\"0\"/>\n"
+      << "      <joint name=\"" << joint_name(r, "y")
+      << "\" type=\"slide\" axis=\"0 1 0\" damping=\"0\"/>\n";
+    if (!ground)
+      x << "      <joint name=\"" << joint_name(r, "z") << "\" type=\"slide\" axis=\"0 0 1\"/>\n";
+    x << "      <joint name=\"" << joint_name(r, "yaw")
+      << "\" type=\"hinge\" axis=\"0 0 1\" ref=\"0\"/>\n"
+      << "      <inertial pos=\"0 0 0\" mass=\"" << kRobotMassKg << "\" diaginertia=\""
+      << vec(kRobotInertia, kRobotInertia, kRobotInertia) << "\"/>\n"
+      << "      <geom name=\"" << r.name << "_body\" type=\"box\" pos=\"" << vec(0, 0, geom_z)
+      << "\" size=\"" << vec(b.half_x_m, b.half_y_m, b.half_z_m) << "\" material=\"robot_mat\""
       << " contype=\"2\" conaffinity=\"3\"/>\n";
     // cameras look along their -z; x right, y up: xyaxes "0 -1 0 0 0 1" looks along body +x
-    const double fov_v = r.camera.fov_v_deg;  // MJCF fovy is in degrees whatever the compiler's angle unit
+    const double fov_v =
+        r.camera.fov_v_deg;  // MJCF fovy is in degrees whatever the compiler's angle unit
     const double cam_z = camera_height_m(r);
     const double cam_x = std::max(r.camera.mount_forward_m, b.half_x_m + 0.01);
     x << "      <camera name=\"" << camera_name(r, true) << "\" pos=\"" << vec(cam_x, 0, cam_z)
       << "\" xyaxes=\"0 -1 0 0 0 1\" fovy=\"" << fov_v << "\"/>\n"
-      << "      <camera name=\"" << camera_name(r, false) << "\" pos=\"" << vec(cam_x, -r.camera.baseline_m, cam_z)
-      << "\" xyaxes=\"0 -1 0 0 0 1\" fovy=\"" << fov_v << "\"/>\n"
+      << "      <camera name=\"" << camera_name(r, false) << "\" pos=\""
+      << vec(cam_x, -r.camera.baseline_m, cam_z) << "\" xyaxes=\"0 -1 0 0 0 1\" fovy=\"" << fov_v
+      << "\"/>\n"
       << "    </body>\n";
   }
   x << "  </worldbody>\n  <actuator>\n";
@@ -143,8 +169,8 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
     std::vector<std::string> axes = {"x", "y", "yaw"};
     if (r.kind == RobotKind::kMultirotor) axes.insert(axes.begin() + 2, "z");
     for (const auto& a : axes)
-      x << "    <velocity name=\"" << joint_name(r, a.c_str()) << "_vel\" joint=\"" << joint_name(r, a.c_str())
-        << "\" kv=\"" << (a == "yaw" ? kv_yaw : kv) << "\"/>\n";
+      x << "    <velocity name=\"" << joint_name(r, a.c_str()) << "_vel\" joint=\""
+        << joint_name(r, a.c_str()) << "\" kv=\"" << (a == "yaw" ? kv_yaw : kv) << "\"/>\n";
   }
   x << "  </actuator>\n</mujoco>\n";
   return x.str();

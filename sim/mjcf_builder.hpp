@@ -3,8 +3,9 @@
 // build_mjcf(): a scene and a team -> the MJCF text MuJoCo loads. Each robot is a body on
 // slide joints (x, y; z for multirotors) and a yaw hinge, driven by velocity actuators;
 // its stereo pair is two fixed cameras. Names follow "<robot>_x", "<robot>_left", ...
-// Gravity is off: robots are velocity-controlled kinematic bodies (the IMU model adds
-// gravity back analytically), so a multirotor holds its altitude without a controller.
+// The ceiling is in geom group 1, so views from above can hide it. Gravity is off: robots are
+// velocity-controlled kinematic bodies (the IMU model adds gravity back analytically), so a
+// multirotor holds its altitude without a controller.
 
 #include <string>
 #include <vector>
@@ -17,10 +18,12 @@ namespace scancrew::sim {
 struct MjcfOptions {
   double timestep_s = 0.005;
   uint32_t offscreen_width = 640, offscreen_height = 480;  // >= every camera
-  double velocity_response = 0.5;  // share of the velocity error an actuator removes per step (0, 1]
+  double velocity_response =
+      0.5;  // share of the velocity error an actuator removes per step (0, 1]
 };
 
-std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& robots, const MjcfOptions& options);
+std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& robots,
+                       const MjcfOptions& options);
 
 // Names of the generated elements, shared by the builder and the simulator.
 std::string joint_name(const RobotSpec& robot, const char* axis);  // axis: "x", "y", "z", "yaw"

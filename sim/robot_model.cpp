@@ -4,7 +4,9 @@
 
 namespace scancrew::sim {
 
-std::string to_string(RobotKind kind) { return kind == RobotKind::kGround ? "ground" : "multirotor"; }
+std::string to_string(RobotKind kind) {
+  return kind == RobotKind::kGround ? "ground" : "multirotor";
+}
 
 double CameraSpec::fx_px() const {
   return 0.5 * width / std::tan(fov_h_deg * M_PI / 360.0);
@@ -26,7 +28,8 @@ std::string CameraSpec::validate() const {
            std::to_string(fov_h_deg) + " x " + std::to_string(fov_v_deg) +
            " degrees with square pixels; for this width use height " + std::to_string(h);
   }
-  if (!(min_range_m > 0) || !(max_range_m > min_range_m)) return "camera range must satisfy 0 < min < max";
+  if (!(min_range_m > 0) || !(max_range_m > min_range_m))
+    return "camera range must satisfy 0 < min < max";
   if (!(rate_hz > 0) || rate_hz > 1000) return "camera rate_hz must be in (0, 1000]";
   return {};
 }

@@ -47,15 +47,15 @@ struct MeshSpec {
 
 struct SceneSpec {
   std::string name;
-  std::string source;            // the YAML file it came from
-  msg::Vec3 min_m, max_m;        // bounds of the region to reconstruct (and of the walls)
+  std::string source;      // the YAML file it came from
+  msg::Vec3 min_m, max_m;  // bounds of the region to reconstruct (and of the walls)
   bool ceiling = false;
-  double wall_height_m = 0;      // 0: no walls
+  double wall_height_m = 0;  // 0: no walls
   double wall_thickness_m = 0.1;
   std::vector<BoxSpec> boxes;
   std::vector<CylinderSpec> cylinders;
   std::vector<MeshSpec> meshes;
-  double dot_size_m = 0.02;      // texel size of the random-dot texture
+  double dot_size_m = 0.02;  // texel size of the random-dot texture
   uint64_t texture_seed = 1;
 };
 
@@ -63,7 +63,8 @@ struct SceneSpec {
 // negative sizes), objects outside the bounds and unknown keys are errors naming the
 // file, the key and what is allowed.
 Result<SceneSpec, std::vector<std::string>> load_scene(const std::string& path);
-Result<SceneSpec, std::vector<std::string>> parse_scene(const std::string& yaml_text, const std::string& label,
+Result<SceneSpec, std::vector<std::string>> parse_scene(const std::string& yaml_text,
+                                                        const std::string& label,
                                                         const std::string& base_dir);
 
 }  // namespace scancrew::sim

@@ -14,12 +14,14 @@ namespace {
 
 class SceneReader {
  public:
-  SceneReader(std::string label, std::string base_dir) : label_(std::move(label)), base_dir_(std::move(base_dir)) {}
+  SceneReader(std::string label, std::string base_dir)
+      : label_(std::move(label)), base_dir_(std::move(base_dir)) {}
 
   Result<SceneSpec, std::vector<std::string>> read(const YAML::Node& root) {
     SceneSpec s;
     s.source = label_;
-    if (!root.IsMap()) return fail(label_ + ": a scene file is a mapping (name, bounds, boxes, ...)");
+    if (!root.IsMap())
+      return fail(label_ + ": a scene file is a mapping (name, bounds, boxes, ...)");
     ParamReader top = make_param_reader(root, label_, "scene");
     top.required("name", s.name);
     std::vector<double> min, max;
@@ -34,16 +36,22 @@ class SceneReader {
     top.finish();
     merge(top);
     if (min.size() != 3 || max.size() != 3) {
-      errors_.push_back(yaml_location(label_, root) + ": scene.bounds_min_m / bounds_max_m: required; allowed: [x, y, z] each, min < max");
+      errors_.push_back(
+          yaml_location(label_, root) +
+          ": scene.bounds_min_m / bounds_max_m: required; allowed: [x, y, z] each, min < max");
     } else {
       s.min_m = {min[0], min[1], min[2]};
       s.max_m = {max[0], max[1], max[2]};
       if (!(s.min_m.x < s.max_m.x && s.min_m.y < s.max_m.y && s.min_m.z < s.max_m.z))
-        errors_.push_back(yaml_location(label_, root["bounds_min_m"]) + ": scene.bounds: degenerate, min must be < max on every axis");
+        errors_.push_back(yaml_location(label_, root["bounds_min_m"]) +
+                          ": scene.bounds: degenerate, min must be < max on every axis");
     }
-    read_list(root["boxes"], "boxes", [&](ParamReader& r, const std::string& path) { read_box(r, path, s); });
-    read_list(root["cylinders"], "cylinders", [&](ParamReader& r, const std::string& path) { read_cylinder(r, path, s); });
-    read_list(root["meshes"], "meshes", [&](ParamReader& r, const std::string& path) { read_mesh(r, path, s); });
+    read_list(root["boxes"], "boxes",
+              [&](ParamReader& r, const std::string& path) { read_box(r, path, s); });
+    read_list(root["cylinders"], "cylinders",
+              [&](ParamReader& r, const std::string& path) { read_cylinder(r, path, s); });
+    read_list(root["meshes"], "meshes",
+              [&](ParamReader& r, const std::string& path) { read_mesh(r, path, s); });
     check_names(s);
     if (!errors_.empty()) return make_unexpected(errors_);
     return s;
@@ -57,11 +65,13 @@ class SceneReader {
  private:
   // object names become MuJoCo names: unique, and not those the builder uses itself
   void check_names(const SceneSpec& s) {
-    std::set<std::string> seen = {"floor", "ceiling", "wall_north", "wall_south", "wall_east", "wall_west"};
+    std::set<std::string> seen = {"floor",      "ceiling",   "wall_north",
+                                  "wall_south", "wall_east", "wall_west"};
     const auto check = [&](const std::string& kind, const std::string& name) {
       if (name.empty()) return;
       if (!seen.insert(name).second)
-        errors_.push_back(label_ + ": " + kind + " '" + name + "': the name is used twice or is reserved "
+        errors_.push_back(label_ + ": " + kind + " '" + name +
+                          "': the name is used twice or is reserved "
                           "(floor, ceiling, wall_north/south/east/west)");
     };
     for (const auto& b : s.boxes) check("box", b.name);
@@ -69,7 +79,9 @@ class SceneReader {
     for (const auto& m : s.meshes) check("mesh", m.name);
   }
 
-  void merge(const ParamReader& r) { errors_.insert(errors_.end(), r.errors().begin(), r.errors().end()); }
+  void merge(const ParamReader& r) {
+    errors_.insert(errors_.end(), r.errors().begin(), r.errors().end());
+  }
 
   template <class Fn>
   void read_list(const YAML::Node& node, const std::string& key, Fn&& fn) {
@@ -91,7 +103,9 @@ class SceneReader {
     std::vector<double> v;
     r.optional_list(key, v, 3, positive ? Range{1e-3, 1e4} : Range{-1e4, 1e4});
     if (v.size() != 3) {
-      if (r.ok()) r.report(key, std::string("required; allowed: [x, y, z]") + (positive ? ", each > 0.001 m" : ""));
+      if (r.ok())
+        r.report(key, std::string("required; allowed: [x, y, z]") +
+                          (positive ? ", each > 0.001 m" : ""));
       return false;
     }
     out = {v[0], v[1], v[2]};
@@ -140,7 +154,9 @@ class SceneReader {
       m.file = p.lexically_normal().string();
       const std::string ext = p.extension().string();
       if (ext != ".obj" && ext != ".stl" && ext != ".OBJ" && ext != ".STL")
-        r.report("file", "'" + m.file + "' is not OBJ or STL; convert it first (scripts/convert_mesh.sh uses assimp)");
+        r.report("file",
+                 "'" + m.file +
+                     "' is not OBJ or STL; convert it first (scripts/convert_mesh.sh uses assimp)");
       else if (!std::filesystem::exists(p))
         r.report("file", "mesh file '" + m.file + "' does not exist");
     }
@@ -153,14 +169,16 @@ class SceneReader {
 
 }  // namespace
 
-Result<SceneSpec, std::vector<std::string>> parse_scene(const std::string& yaml_text, const std::string& label,
+Result<SceneSpec, std::vector<std::string>> parse_scene(const std::string& yaml_text,
+                                                        const std::string& label,
                                                         const std::string& base_dir) {
   SceneReader reader(label, base_dir);
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
-    return reader.fail(label + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+    return reader.fail(label + ":" + std::to_string(e.mark.line + 1) +
+                       ": not valid YAML: " + e.msg);
   }
   return reader.read(root);
 }

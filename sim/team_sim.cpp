@@ -65,7 +65,9 @@ struct TeamSim::Impl {
     if (model) mj_deleteModel(model);
   }
 
-  int id(mjtObj type, const std::string& name) const { return mj_name2id(model, type, name.c_str()); }
+  int id(mjtObj type, const std::string& name) const {
+    return mj_name2id(model, type, name.c_str());
+  }
 
   void count_contacts(ContactCounts& counts) {
     std::set<std::pair<int, int>> now;
@@ -106,18 +108,21 @@ struct TeamSim::Impl {
       const uint8_t* src = &rgb[size_t{h - 1 - y} * w * 3];
       uint8_t* dst = &out[size_t{y} * w];
       for (uint32_t x = 0; x < w; ++x)
-        dst[x] = static_cast<uint8_t>((299 * src[3 * x] + 587 * src[3 * x + 1] + 114 * src[3 * x + 2]) / 1000);
+        dst[x] = static_cast<uint8_t>(
+            (299 * src[3 * x] + 587 * src[3 * x + 1] + 114 * src[3 * x + 2]) / 1000);
     }
   }
   void to_depth(uint32_t w, uint32_t h, std::vector<float>& out) const {
     out.resize(size_t{w} * h);
     for (uint32_t y = 0; y < h; ++y)
-      for (uint32_t x = 0; x < w; ++x) out[size_t{y} * w + x] = linear_depth(depth_raw[size_t{h - 1 - y} * w + x]);
+      for (uint32_t x = 0; x < w; ++x)
+        out[size_t{y} * w + x] = linear_depth(depth_raw[size_t{h - 1 - y} * w + x]);
   }
 };
 
-Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& scene, std::vector<RobotSpec> robots,
-                                                               const TeamSimConfig& config) {
+Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& scene,
+                                                              std::vector<RobotSpec> robots,
+                                                              const TeamSimConfig& config) {
   auto sim = std::unique_ptr<TeamSim>(new TeamSim());
   sim->scene_ = scene;
   MjcfOptions mjcf = config.mjcf;
@@ -126,18 +131,19 @@ Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& s
       return make_unexpected(r.name + ": " + problem);
     mjcf.offscreen_width = std::max(mjcf.offscreen_width, r.camera.width);
     mjcf.offscreen_height = std::max(mjcf.offscreen_height, r.camera.height);
-    const bool inside = r.start_x_m >= scene.min_m.x && r.start_x_m <= scene.max_m.x && r.start_y_m >= scene.min_m.y &&
-                        r.start_y_m <= scene.max_m.y;
+    const bool inside = r.start_x_m >= scene.min_m.x && r.start_x_m <= scene.max_m.x &&
+                        r.start_y_m >= scene.min_m.y && r.start_y_m <= scene.max_m.y;
     if (!inside)
-      return make_unexpected(r.name + ": start (" + std::to_string(r.start_x_m) + ", " + std::to_string(r.start_y_m) +
-                             ") is outside the scene bounds");
+      return make_unexpected(r.name + ": start (" + std::to_string(r.start_x_m) + ", " +
+                             std::to_string(r.start_y_m) + ") is outside the scene bounds");
   }
   sim->robots_ = std::move(robots);
   sim->mjcf_ = build_mjcf(scene, sim->robots_, mjcf);
 
   // MuJoCo loads from a file: a private temporary one (meshes are named by absolute path)
   const auto dir = std::filesystem::temp_directory_path();
-  const auto file = dir / ("scancrew_scene_" + std::to_string(reinterpret_cast<uintptr_t>(sim.get())) + ".xml");
+  const auto file =
+      dir / ("scancrew_scene_" + std::to_string(reinterpret_cast<uintptr_t>(sim.get())) + ".xml");
   {
     std::ofstream out(file);
     out << sim->mjcf_;
@@ -145,7 +151,8 @@ Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& s
   char error[1000] = "";
   mjModel* model = mj_loadXML(file.c_str(), nullptr, error, sizeof(error));
   std::filesystem::remove(file);
-  if (model == nullptr) return make_unexpected("MuJoCo cannot load the scene '" + scene.name + "': " + error);
+  if (model == nullptr)
+    return make_unexpected("MuJoCo cannot load the scene '" + scene.name + "': " + error);
 
   auto impl = std::make_unique<Impl>();
   impl->model = model;
@@ -185,8 +192,9 @@ Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& s
     const int robot = r1 >= 0 ? r1 : r2;
     const int other = r1 >= 0 ? contact.geom2 : contact.geom1;
     const char* other_name = mj_id2name(model, mjOBJ_GEOM, other);
-    return make_unexpected(sim->robots_[robot].name + " starts inside '" + (other_name ? other_name : "?") +
-                           "' (penetration " + std::to_string(-contact.dist) + " m); move its start pose");
+    return make_unexpected(sim->robots_[robot].name + " starts inside '" +
+                           (other_name ? other_name : "?") + "' (penetration " +
+                           std::to_string(-contact.dist) + " m); move its start pose");
   }
 
   if (config.rendering) {
@@ -200,7 +208,8 @@ Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& s
     mjr_makeContext(model, &impl->context, mjFONTSCALE_100);
     mjr_setBuffer(mjFB_OFFSCREEN, &impl->context);
     if (impl->context.currentBuffer != mjFB_OFFSCREEN)
-      return make_unexpected(std::string("no GL available: the offscreen framebuffer cannot be bound"));
+      return make_unexpected(
+          std::string("no GL available: the offscreen framebuffer cannot be bound"));
     impl->rendering = true;
   }
   sim->impl_ = std::move(impl);
@@ -209,8 +218,12 @@ Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& s
 
 TeamSim::~TeamSim() = default;
 
-int64_t TeamSim::time_ns() const { return std::llround(impl_->data->time * 1e9); }
-int64_t TeamSim::timestep_ns() const { return std::llround(impl_->model->opt.timestep * 1e9); }
+int64_t TeamSim::time_ns() const {
+  return std::llround(impl_->data->time * 1e9);
+}
+int64_t TeamSim::timestep_ns() const {
+  return std::llround(impl_->model->opt.timestep * 1e9);
+}
 
 void TeamSim::step_until(int64_t t_ns) {
   mjModel* m = impl_->model;
@@ -236,14 +249,17 @@ void TeamSim::step_until(int64_t t_ns) {
   }
 }
 
-void TeamSim::set_velocity(size_t robot, const msg::VelocityCommand& command) { impl_->ids[robot].command = command; }
+void TeamSim::set_velocity(size_t robot, const msg::VelocityCommand& command) {
+  impl_->ids[robot].command = command;
+}
 
 msg::Pose3 TeamSim::body_pose(size_t robot) const {
   const mjData* d = impl_->data;
   const int b = impl_->ids[robot].body;
   msg::Pose3 pose;
   pose.position = {d->xpos[3 * b], d->xpos[3 * b + 1], d->xpos[3 * b + 2]};
-  pose.orientation = {d->xquat[4 * b], d->xquat[4 * b + 1], d->xquat[4 * b + 2], d->xquat[4 * b + 3]};
+  pose.orientation = {d->xquat[4 * b], d->xquat[4 * b + 1], d->xquat[4 * b + 2],
+                      d->xquat[4 * b + 3]};
   return pose;
 }
 
@@ -270,7 +286,8 @@ msg::Pose3 TeamSim::camera_pose(size_t robot) const {
   return pose;
 }
 
-Result<void, std::string> TeamSim::render_stereo(size_t robot, msg::StereoFrame* stereo, msg::DepthImage* depth_gt) {
+Result<void, std::string> TeamSim::render_stereo(size_t robot, msg::StereoFrame* stereo,
+                                                 msg::DepthImage* depth_gt) {
   if (!impl_->rendering) return make_unexpected(std::string("rendering is off for this simulator"));
   const RobotSpec& r = robots_[robot];
   const RobotIds& ids = impl_->ids[robot];
@@ -312,43 +329,48 @@ void TeamSim::make_noisy_depth(size_t robot, msg::DepthImage& depth) {
   p.baseline_m = r.camera.baseline_m;
   p.min_range_m = r.camera.min_range_m;
   p.max_range_m = r.camera.max_range_m;
-  apply_depth_noise(depth.depth_m, depth.intrinsics.width, depth.intrinsics.height, p, impl_->ids[robot].rng,
-                    impl_->ids[robot].scratch);
+  apply_depth_noise(depth.depth_m, depth.intrinsics.width, depth.intrinsics.height, p,
+                    impl_->ids[robot].rng, impl_->ids[robot].scratch);
   depth.min_range_m = r.camera.min_range_m;
   depth.max_range_m = r.camera.max_range_m;
 }
 
-Result<void, std::string> TeamSim::render_view(const msg::Pose3& T_world_cam, double fov_v_deg, uint32_t width,
-                                               uint32_t height, std::vector<uint8_t>* rgb, std::vector<float>* depth_m) {
+Result<void, std::string> TeamSim::render_view(const msg::Vec3& position, const msg::Vec3& forward,
+                                               double fov_v_deg, uint32_t width, uint32_t height,
+                                               bool hide_ceiling, std::vector<uint8_t>* rgb,
+                                               std::vector<float>* depth_m) {
   if (!impl_->rendering) return make_unexpected(std::string("rendering is off for this simulator"));
   if (width > static_cast<uint32_t>(impl_->model->vis.global.offwidth) ||
       height > static_cast<uint32_t>(impl_->model->vis.global.offheight))
     return make_unexpected("view " + std::to_string(width) + "x" + std::to_string(height) +
-                           " exceeds the offscreen buffer " + std::to_string(impl_->model->vis.global.offwidth) + "x" +
+                           " exceeds the offscreen buffer " +
+                           std::to_string(impl_->model->vis.global.offwidth) + "x" +
                            std::to_string(impl_->model->vis.global.offheight));
-  // a free camera looking along the optical z axis, from the optical frame's pose
-  const msg::Quat& q = T_world_cam.orientation;
-  const mjtNum quat[4] = {q.w, q.x, q.y, q.z};
-  mjtNum mat[9];
-  mju_quat2Mat(mat, quat);
-  const mjtNum forward[3] = {mat[2], mat[5], mat[8]};  // optical z in world
-  const mjtNum down[3] = {mat[1], mat[4], mat[7]};     // optical y in world
+  const double norm =
+      std::sqrt(forward.x * forward.x + forward.y * forward.y + forward.z * forward.z);
+  if (!(norm > 0)) return make_unexpected(std::string("render_view: forward must not be zero"));
+  const double f[3] = {forward.x / norm, forward.y / norm, forward.z / norm};
+  // a free camera orbits `lookat` at `distance`: put lookat 1 m ahead of the position
   mjvCamera camera;
   mjv_defaultCamera(&camera);
   camera.type = mjCAMERA_FREE;
   camera.distance = 1.0;
-  for (int k = 0; k < 3; ++k) camera.lookat[k] = (&T_world_cam.position.x)[k] + forward[k];
-  camera.azimuth = std::atan2(forward[1], forward[0]) * 180.0 / M_PI;
-  camera.elevation = std::asin(std::clamp(forward[2], -1.0, 1.0)) * 180.0 / M_PI;
-  (void)down;  // a free camera has no roll: views are level
-  const double saved_fovy = impl_->model->vis.global.fovy;
+  camera.lookat[0] = position.x + f[0];
+  camera.lookat[1] = position.y + f[1];
+  camera.lookat[2] = position.z + f[2];
+  camera.azimuth = std::atan2(f[1], f[0]) * 180.0 / M_PI;
+  camera.elevation = std::asin(std::clamp(f[2], -1.0, 1.0)) * 180.0 / M_PI;
+  const float saved_fovy = impl_->model->vis.global.fovy;
   impl_->model->vis.global.fovy = static_cast<float>(fov_v_deg);
+  impl_->option.geomgroup[1] = hide_ceiling ? 0 : 1;
   impl_->render_camera(camera, width, height);
-  impl_->model->vis.global.fovy = static_cast<float>(saved_fovy);
+  impl_->option.geomgroup[1] = 1;
+  impl_->model->vis.global.fovy = saved_fovy;
   if (rgb != nullptr) {
     rgb->resize(size_t{width} * height * 3);
     for (uint32_t y = 0; y < height; ++y)
-      std::memcpy(&(*rgb)[size_t{y} * width * 3], &impl_->rgb[size_t{height - 1 - y} * width * 3], size_t{width} * 3);
+      std::memcpy(&(*rgb)[size_t{y} * width * 3], &impl_->rgb[size_t{height - 1 - y} * width * 3],
+                  size_t{width} * 3);
   }
   if (depth_m != nullptr) impl_->to_depth(width, height, *depth_m);
   return {};
@@ -368,7 +390,8 @@ msg::Imu TeamSim::imu(size_t robot) {
   imu.linear_acceleration_mps2 = {c * ax + s * ay + unit(ids.rng) * r.imu.accel_noise_mps2,
                                   -s * ax + c * ay + unit(ids.rng) * r.imu.accel_noise_mps2,
                                   az + unit(ids.rng) * r.imu.accel_noise_mps2};
-  imu.angular_velocity_radps = {unit(ids.rng) * r.imu.gyro_noise_radps, unit(ids.rng) * r.imu.gyro_noise_radps,
+  imu.angular_velocity_radps = {unit(ids.rng) * r.imu.gyro_noise_radps,
+                                unit(ids.rng) * r.imu.gyro_noise_radps,
                                 d->qvel[ids.dof_yaw] + unit(ids.rng) * r.imu.gyro_noise_radps};
   imu.header.stamp_ns = time_ns();
   return imu;

@@ -27,8 +27,8 @@ namespace scancrew::sim {
 
 struct TeamSimConfig {
   MjcfOptions mjcf;
-  uint64_t seed = 1;           // noise generators (IMU, depth), per robot from this seed
-  bool rendering = true;       // false: no GL context (physics-only runs and tests)
+  uint64_t seed = 1;              // noise generators (IMU, depth), per robot from this seed
+  bool rendering = true;          // false: no GL context (physics-only runs and tests)
   double max_speed_factor = 2.0;  // commands are clamped to this times the nominal speed
 };
 
@@ -41,7 +41,8 @@ class TeamSim {
  public:
   // Fails with the cause: an invalid camera, a robot starting inside an obstacle or
   // outside the bounds, a mesh MuJoCo cannot load, no GL when rendering is on.
-  static Result<std::unique_ptr<TeamSim>, std::string> create(const SceneSpec& scene, std::vector<RobotSpec> robots,
+  static Result<std::unique_ptr<TeamSim>, std::string> create(const SceneSpec& scene,
+                                                              std::vector<RobotSpec> robots,
                                                               const TeamSimConfig& config);
   ~TeamSim();
   TeamSim(const TeamSim&) = delete;
@@ -69,13 +70,17 @@ class TeamSim {
   // Renders the robot's rectified stereo pair (grayscale) and, if depth_gt is given, the
   // left camera's ground-truth depth (m along the optical axis; NaN where nothing is
   // within the depth buffer's range). Sets intrinsics, baseline, pose and stamp.
-  Result<void, std::string> render_stereo(size_t robot, msg::StereoFrame* stereo, msg::DepthImage* depth_gt);
+  Result<void, std::string> render_stereo(size_t robot, msg::StereoFrame* stereo,
+                                          msg::DepthImage* depth_gt);
   // The depth sensor of the oracle mode: ground truth with the noise model of 2.6.1
   // (as configured for the robot), NaN outside the camera range.
   void make_noisy_depth(size_t robot, msg::DepthImage& depth);
-  // Renders any view: a free camera at T_world_cam (optical frame) with a vertical FOV.
-  Result<void, std::string> render_view(const msg::Pose3& T_world_cam, double fov_v_deg, uint32_t width,
-                                        uint32_t height, std::vector<uint8_t>* rgb, std::vector<float>* depth_m);
+  // Renders any view, RGB rows top-down: a level free camera at `position` looking along
+  // `forward` (world frame) with a vertical FOV; the ceiling hidden if asked (top views).
+  Result<void, std::string> render_view(const msg::Vec3& position, const msg::Vec3& forward,
+                                        double fov_v_deg, uint32_t width, uint32_t height,
+                                        bool hide_ceiling, std::vector<uint8_t>* rgb,
+                                        std::vector<float>* depth_m);
 
   // IMU of the robot now: specific force (gravity up at rest) and angular rate, body
   // frame, with the robot's noise.
