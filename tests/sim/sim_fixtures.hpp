@@ -18,7 +18,8 @@ bounds_min_m: [-5, -5, 0]
 bounds_max_m: [5, 5, 3]
 boxes:
   - {name: wall, center_m: [3.0, 0, 1.5], size_m: [0.2, 8, 3]}
-)", "wall.yaml", ".");
+)",
+                           "wall.yaml", ".");
   EXPECT_TRUE(scene) << (scene ? "" : scene.error().front());
   return *scene;
 }
@@ -46,8 +47,8 @@ inline RobotSpec multirotor(const std::string& name, double x, double y, double 
   return r;
 }
 
-inline std::unique_ptr<TeamSim> make_sim(const SceneSpec& scene, std::vector<RobotSpec> robots, bool rendering,
-                                         uint64_t seed = 1) {
+inline std::unique_ptr<TeamSim> make_sim(const SceneSpec& scene, std::vector<RobotSpec> robots,
+                                         bool rendering, uint64_t seed = 1) {
   TeamSimConfig config;
   config.rendering = rendering;
   config.seed = seed;

@@ -1,8 +1,8 @@
-#include "sim/depth_noise.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "sim/depth_noise.hpp"
 
 namespace scancrew::sim {
 namespace {
@@ -35,8 +35,13 @@ TEST(DepthNoise, SigmaFollowsTheThesisModel) {
 TEST(DepthNoise, NoiseHasTheModelledSpreadAndSmoothingReducesIt) {
   const uint32_t w = 200, h = 200;
   const double z = 4.0, sigma = depth_sigma_m(z, 0.1, 160, 0.26);
-  DepthNoiseParams p{.add_noise = true, .disparity_error_px = 0.1, .fx_px = 160, .baseline_m = 0.26,
-                     .smoothing = false, .min_range_m = 0.3, .max_range_m = 10};
+  DepthNoiseParams p{.add_noise = true,
+                     .disparity_error_px = 0.1,
+                     .fx_px = 160,
+                     .baseline_m = 0.26,
+                     .smoothing = false,
+                     .min_range_m = 0.3,
+                     .max_range_m = 10};
   std::mt19937_64 rng(3);
   std::vector<float> scratch, raw(size_t{w} * h, static_cast<float>(z));
   apply_depth_noise(raw, w, h, p, rng, scratch);

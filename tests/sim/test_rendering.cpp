@@ -27,7 +27,8 @@ TEST(Rendering, DepthMatchesTheAnalyticDistanceToAWallWithin1mm) {
   // the upper half of the image sees only the wall (a plane facing the camera)
   double worst = 0;
   for (uint32_t y = 0; y < h / 2; ++y)
-    for (uint32_t x = 0; x < w; ++x) worst = std::max(worst, std::abs(depth.depth_m[size_t{y} * w + x] - kWallDepth));
+    for (uint32_t x = 0; x < w; ++x)
+      worst = std::max(worst, std::abs(depth.depth_m[size_t{y} * w + x] - kWallDepth));
   EXPECT_LT(worst, 1e-3);
   // the pose comes with it: optical axis along world +x at the camera's position
   EXPECT_NEAR(depth.T_world_cam.position.x, 0.25, 1e-9);
@@ -65,7 +66,8 @@ double patch_disparity(const msg::StereoFrame& f, uint32_t cx, uint32_t cy, int 
     for (int dy = -half; dy <= half; ++dy)
       for (int dx = -half; dx <= half; ++dx) {
         const size_t row = size_t(int(cy) + dy) * w;
-        c += std::abs(int(f.left[row + size_t(int(cx) + dx)]) - int(f.right[row + size_t(int(cx) + dx - d)]));
+        c += std::abs(int(f.left[row + size_t(int(cx) + dx)]) -
+                      int(f.right[row + size_t(int(cx) + dx - d)]));
       }
     cost[static_cast<size_t>(d)] = c;
   }

@@ -26,7 +26,8 @@ boxes:
   - {name: pillar, center_m: [0, 0, 1], size_m: [0.8, 0.8, 2], yaw_deg: 30, color: [1, 0, 0]}
 cylinders:
   - {name: drum, center_m: [2, 2, 0.5], radius_m: 0.3, height_m: 1}
-)", "room.yaml", ".");
+)",
+                           "room.yaml", ".");
   ASSERT_TRUE(scene) << scene.error().front();
   EXPECT_EQ(scene->name, "room");
   ASSERT_EQ(scene->boxes.size(), 1u);
@@ -59,7 +60,9 @@ bounds_max_m: [10, 10, 10]
 meshes:
   - {name: plant, file: plant.obj, fit_m: [10, 10, 10], center_m: [5, 5, 0]}
 )");
-  EXPECT_NE(e.find("meshes[0].file: mesh file '/nonexistent/plant.obj' does not exist"), std::string::npos) << e;
+  EXPECT_NE(e.find("meshes[0].file: mesh file '/nonexistent/plant.obj' does not exist"),
+            std::string::npos)
+      << e;
 }
 
 TEST(SceneLoader, UnknownKeysAndMissingFieldsAreErrors) {

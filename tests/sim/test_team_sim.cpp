@@ -17,7 +17,9 @@ using test::wall_scene;
 
 constexpr int64_t kSecond = 1'000'000'000;
 
-double yaw_of(const msg::Quat& q) { return std::atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z)); }
+double yaw_of(const msg::Quat& q) {
+  return std::atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z));
+}
 
 msg::VelocityCommand command(double vx, double vy, double vz, double yaw_rate) {
   msg::VelocityCommand c;
@@ -87,7 +89,8 @@ TEST(TeamSim, CommandsAreClampedToTwiceTheNominalSpeed) {
 TEST(TeamSim, CountsRobotSceneAndRobotRobotContacts) {
   // a faces the wall 0.68 m ahead; b and c face each other 2 m apart
   auto sim = make_sim(wall_scene(),
-                      {ground_robot("a", 2.0, 0), ground_robot("b", 0, 1.0, -M_PI_2), ground_robot("c", 0, -1.0, M_PI_2)},
+                      {ground_robot("a", 2.0, 0), ground_robot("b", 0, 1.0, -M_PI_2),
+                       ground_robot("c", 0, -1.0, M_PI_2)},
                       false);
   ASSERT_TRUE(sim);
   sim->step_until(kSecond);
@@ -107,7 +110,8 @@ TEST(TeamSim, CountsRobotSceneAndRobotRobotContacts) {
 
 TEST(TeamSim, TwoRunsWithTheSameSeedGiveIdenticalTrajectories) {
   const auto run = [](uint64_t seed) {
-    auto sim = make_sim(wall_scene(), {ground_robot("a", -3, 0), multirotor("u", 0, 2, 1)}, false, seed);
+    auto sim =
+        make_sim(wall_scene(), {ground_robot("a", -3, 0), multirotor("u", 0, 2, 1)}, false, seed);
     std::vector<double> trace;
     for (int k = 0; k < 100; ++k) {
       sim->set_velocity(0, command(0.5 * std::sin(k * 0.1), 0, 0, 0.3 * std::cos(k * 0.07)));
