@@ -12,6 +12,9 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # Fast DDS (inter-robot bridge; side-by-side peer of `scancrew bench ipc`)
   libfastrtps-dev libfastcdr-dev
+  # iceoryx (side-by-side peer of `scancrew bench ipc`); Debian's iceoryx headers include
+  # <sys/acl.h> without depending on libacl1-dev
+  iceoryx libiceoryx-posh-dev libiceoryx-hoofs-dev libacl1-dev
   # style checks run in CI
   clang-format clang-tidy
 )

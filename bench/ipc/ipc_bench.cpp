@@ -32,6 +32,10 @@ void print_targets(const std::vector<IpcResult>& results) {
       std::printf("  %-21s 1 MB p50 >= 10x lower than Fast DDS: %s (%.1fx)\n", mode,
                   peer->p50_us / ours->p50_us >= 10 ? "met" : "MISSED",
                   peer->p50_us / ours->p50_us);
+    const IpcResult* iceoryx = find(results, "iceoryx", mode, 1 << 20);
+    if (ours && iceoryx && ours->p50_us > 0)
+      std::printf("  %-21s 1 MB p50 iceoryx / scancrew (information, no target): %.1fx\n", mode,
+                  iceoryx->p50_us / ours->p50_us);
   }
   double worst = 0;
   for (const IpcResult& r : results)
@@ -54,6 +58,8 @@ int run_ipc_bench(const IpcOptions& options) {
   std::vector<IpcResult> results = bench_scancrew(options);
   std::vector<IpcResult> fastdds = bench_fastdds(options);
   results.insert(results.end(), fastdds.begin(), fastdds.end());
+  std::vector<IpcResult> iceoryx = bench_iceoryx(options);
+  results.insert(results.end(), iceoryx.begin(), iceoryx.end());
 
   if (options.json) {
     nlohmann::json out;

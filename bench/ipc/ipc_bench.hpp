@@ -1,8 +1,9 @@
 #pragma once
 
 // `scancrew bench ipc`: publish -> callback latency for payloads from 64 B to 16 MB,
-// delivered on the publishing thread and to another thread, for scancrew's runtime and
-// for Fast DDS (intra-process, data-sharing, loans, plain type) in the same binary.
+// delivered on the publishing thread and to another thread, for scancrew's runtime, for
+// Fast DDS (intra-process, data-sharing, loans, plain type) and for iceoryx (RouDi in this
+// process, loaned shared-memory chunks) in the same binary.
 // Method and recorded figures: docs/bench_ipc.md.
 
 #include <cstddef>
@@ -22,7 +23,7 @@ struct IpcOptions {
 };
 
 struct IpcResult {
-  std::string system;  // scancrew | fastdds
+  std::string system;  // scancrew | fastdds | iceoryx
   std::string mode;    // same_thread | cross_thread
   size_t payload_bytes = 0;
   double p50_us = 0, p99_us = 0, max_us = 0;
@@ -32,6 +33,9 @@ struct IpcResult {
 
 std::vector<IpcResult> bench_scancrew(const IpcOptions& options);
 std::vector<IpcResult> bench_fastdds(const IpcOptions& options);
+// Starts RouDi inside this process for the call's duration; every case of a call fails
+// (lost = samples) when another RouDi is running on this machine.
+std::vector<IpcResult> bench_iceoryx(const IpcOptions& options);
 
 // Runs every case and prints the table or the JSON object. Returns the exit status.
 int run_ipc_bench(const IpcOptions& options);
