@@ -42,7 +42,8 @@ int run_render(const RenderOptions& o) {
   }
   // candidate poses: the one asked for, else the corners (1 m in) facing the centre
   std::vector<std::array<double, 3>> candidates;
-  const double cx = 0.5 * (scene->min_m.x + scene->max_m.x), cy = 0.5 * (scene->min_m.y + scene->max_m.y);
+  const double cx = 0.5 * (scene->min_m.x + scene->max_m.x),
+               cy = 0.5 * (scene->min_m.y + scene->max_m.y);
   if (o.pose.size() == 3) {
     candidates.push_back({o.pose[0], o.pose[1], o.pose[2] * M_PI / 180.0});
   } else {
@@ -75,10 +76,13 @@ int run_render(const RenderOptions& o) {
     std::fprintf(stderr, "scancrew render: %s\n", r.error().c_str());
     return 2;
   }
-  const auto path = [&](const char* name) { return (std::filesystem::path(o.out_dir) / name).string(); };
+  const auto path = [&](const char* name) {
+    return (std::filesystem::path(o.out_dir) / name).string();
+  };
   const unsigned w = stereo.intrinsics.width, h = stereo.intrinsics.height;
   std::vector<std::string> written;
-  const auto write = [&](const char* name, const std::vector<uint8_t>& px, unsigned pw, unsigned ph, int channels) {
+  const auto write = [&](const char* name, const std::vector<uint8_t>& px, unsigned pw, unsigned ph,
+                         int channels) {
     auto r = sim::write_png(path(name), px, pw, ph, channels);
     if (!r) {
       std::fprintf(stderr, "scancrew render: %s\n", r.error().c_str());
@@ -87,24 +91,29 @@ int run_render(const RenderOptions& o) {
     written.push_back(path(name));
     return true;
   };
-  if (!write("left.png", stereo.left, w, h, 1) || !write("right.png", stereo.right, w, h, 1)) return 2;
+  if (!write("left.png", stereo.left, w, h, 1) || !write("right.png", stereo.right, w, h, 1))
+    return 2;
   if (!write("depth.png", sim::colorize_depth(depth.depth_m, 0.0f, 10.0f), w, h, 3)) return 2;
 
   // from above: high enough for the whole bounds to fit the vertical FOV
   const double fov_v = 60.0, tw = 640, th = 480;
-  const double half_y = 0.5 * (scene->max_m.y - scene->min_m.y), half_x = 0.5 * (scene->max_m.x - scene->min_m.x);
+  const double half_y = 0.5 * (scene->max_m.y - scene->min_m.y),
+               half_x = 0.5 * (scene->max_m.x - scene->min_m.x);
   const double tan_v = std::tan(fov_v * M_PI / 360.0);
-  const double height = std::max(half_y / tan_v, half_x / (tan_v * tw / th)) * 1.05 + scene->max_m.z;
+  const double height =
+      std::max(half_y / tan_v, half_x / (tan_v * tw / th)) * 1.05 + scene->max_m.z;
   std::vector<uint8_t> top;
-  if (auto r = team->render_view({cx, cy, height}, {0.0, 0.0, -1.0}, fov_v, 640, 480, true, &top, nullptr); !r) {
+  if (auto r = team->render_view({cx, cy, height}, {0.0, 0.0, -1.0}, fov_v, 640, 480, true, &top,
+                                 nullptr);
+      !r) {
     std::fprintf(stderr, "scancrew render: %s\n", r.error().c_str());
     return 2;
   }
   if (!write("top_view.png", top, 640, 480, 3)) return 2;
   const msg::Pose3 pose = team->body_pose(0);
-  std::printf("scene '%s': camera at (%.2f, %.2f, %.2f), %ux%u, f = %.1f px, baseline %.2f m\n", scene->name.c_str(),
-              pose.position.x, pose.position.y, depth.T_world_cam.position.z, w, h, stereo.intrinsics.fx,
-              stereo.baseline_m);
+  std::printf("scene '%s': camera at (%.2f, %.2f, %.2f), %ux%u, f = %.1f px, baseline %.2f m\n",
+              scene->name.c_str(), pose.position.x, pose.position.y, depth.T_world_cam.position.z,
+              w, h, stereo.intrinsics.fx, stereo.baseline_m);
   for (const auto& p : written) std::printf("wrote %s\n", p.c_str());
   return 0;
 }

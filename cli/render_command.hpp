@@ -14,7 +14,7 @@ struct RenderOptions {
   std::string out_dir;
   std::vector<double> pose;  // x, y, yaw_deg; empty: a free corner facing the centre
   std::string kind = "ground";
-  double z_m = 1.5;          // multirotor altitude
+  double z_m = 1.5;  // multirotor altitude
   unsigned width = 640, height = 370;
 };
 

@@ -101,6 +101,11 @@ void Component::note_port(std::string_view port, const std::string& topic, std::
     context_.graph->record({kind, qualified_name_, std::string(port), topic, std::string(type)});
 }
 
+const std::vector<TeamMember>& Component::team() const {
+  static const std::vector<TeamMember> kNone;
+  return context_.team ? *context_.team : kNone;
+}
+
 Timer* Component::create_timer(std::chrono::nanoseconds period, Timer::Callback callback) {
   auto timer = std::make_unique<Timer>(clock(), period.count(), std::move(callback),
                                        *context_.callback_group, &active_);

@@ -38,10 +38,19 @@ struct PortQos {
   std::optional<History> history;
 };
 
+// A robot of the team, as the launch file declares it (robots: section).
+struct TeamMember {
+  uint32_t id = 0;
+  std::string ns;               // namespace, e.g. "robot1"
+  std::string kind = "ground";  // ground | multirotor
+  double start_x_m = 0, start_y_m = 0, start_z_m = 0, start_yaw_rad = 0;
+};
+
 struct ComponentContext {
   Graph* graph = nullptr;
-  std::string name;  // instance name, e.g. "stereo"
-  std::string ns;    // namespace, e.g. "robot1" ("" = root)
+  std::shared_ptr<const std::vector<TeamMember>> team;  // every robot of the launch file
+  std::string name;                                     // instance name, e.g. "stereo"
+  std::string ns;                                       // namespace, e.g. "robot1" ("" = root)
   uint32_t robot_id = 0;
   std::map<std::string, std::string> remaps;      // port -> topic name (relative or absolute)
   std::map<std::string, PortQos> qos;             // port -> QoS overrides
@@ -125,6 +134,8 @@ class Component {
   Timer* create_timer(std::chrono::nanoseconds period, Timer::Callback callback);
 
   Clock& clock() { return context_.graph->clock(); }
+  // The robots of the launch file (empty when the component was built outside one).
+  const std::vector<TeamMember>& team() const;
   Graph& graph() { return *context_.graph; }
 
  private:

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <set>
@@ -15,10 +16,7 @@ namespace scancrew {
 
 namespace {
 
-struct RobotSpec {
-  uint32_t id = 0;
-  std::string ns;
-};
+using RobotSpec = TeamMember;
 
 struct ComponentSpec {
   std::string name, type;
@@ -113,7 +111,7 @@ class LaunchBuilder {
 
   void read_robots(const YAML::Node& node) {
     if (!node.IsDefined() || node.IsNull()) {
-      robots_.push_back({0, ""});
+      robots_.push_back({});
       return;
     }
     if (!node.IsSequence() || node.size() == 0) {
@@ -129,6 +127,15 @@ class LaunchBuilder {
       RobotSpec robot;
       r.required("id", robot.id, {0, 1e6});
       r.required("namespace", robot.ns);
+      r.choice("kind", robot.kind, {"ground", "multirotor"});
+      std::vector<double> start;
+      r.optional_list("start", start, 4, {-1e5, 1e5});  // x, y, z, yaw_deg
+      if (start.size() == 4) {
+        robot.start_x_m = start[0];
+        robot.start_y_m = start[1];
+        robot.start_z_m = start[2];
+        robot.start_yaw_rad = start[3] * M_PI / 180.0;
+      }
       r.finish();
       merge(r);
       if (!r.ok()) continue;
@@ -277,6 +284,7 @@ class LaunchBuilder {
       std::unique_ptr<Component> component;
     };
     std::vector<Pending> created;
+    const auto team = std::make_shared<const std::vector<TeamMember>>(robots_);
     const auto& registry = ComponentRegistry::instance();
     for (const ComponentSpec& spec : specs_) {
       const std::vector<RobotSpec> owners =
@@ -285,6 +293,7 @@ class LaunchBuilder {
       for (const RobotSpec& robot : owners) {
         ComponentContext ctx;
         ctx.graph = launch.graph_.get();
+        ctx.team = team;
         ctx.name = spec.name;
         ctx.ns = robot.ns;
         ctx.robot_id = robot.id;

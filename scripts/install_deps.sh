@@ -15,6 +15,9 @@ PACKAGES=(
   # iceoryx (side-by-side peer of `scancrew bench ipc`); Debian's iceoryx headers include
   # <sys/acl.h> without depending on libacl1-dev
   iceoryx libiceoryx-posh-dev libiceoryx-hoofs-dev libacl1-dev
+  # MuJoCo team simulator, headless rendering (EGL, Mesa llvmpipe), mesh import
+  libmujoco-dev libqhull-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libopengl-dev
+  libassimp-dev
   # style checks run in CI
   clang-format clang-tidy
 )

@@ -1,0 +1,205 @@
+#include "components/team_simulator/team_simulator.hpp"
+
+#include <cmath>
+
+#include "executors/log.hpp"
+#include "executors/registry.hpp"
+
+namespace scancrew::components {
+
+namespace {
+
+void read_camera(ParamReader& p, const std::string& prefix, sim::CameraSpec& c) {
+  p.optional(prefix + "width", c.width, {16, 8192});
+  p.optional(prefix + "height", c.height, {16, 8192});
+  p.optional(prefix + "fov_h_deg", c.fov_h_deg, {10, 170});
+  p.optional(prefix + "fov_v_deg", c.fov_v_deg, {10, 170});
+  p.optional(prefix + "baseline_m", c.baseline_m, {0, 2});
+  p.optional(prefix + "rate_hz", c.rate_hz, {0.01, 1000});
+  p.optional(prefix + "min_range_m", c.min_range_m, {0.01, 100});
+  p.optional(prefix + "max_range_m", c.max_range_m, {0.02, 1000});
+  p.optional(prefix + "mount_forward_m", c.mount_forward_m, {0, 5});
+  p.optional(prefix + "mount_up_m", c.mount_up_m, {-5, 5});
+  if (auto problem = c.validate(); !problem.empty()) p.report(prefix + "width", problem);
+}
+
+int64_t period_ns(double rate_hz) { return static_cast<int64_t>(std::llround(1e9 / rate_hz)); }
+
+}  // namespace
+
+TeamSimulator::Config TeamSimulator::read_config(ParamReader& p) {
+  Config c;
+  // multirotor defaults: table 2.1 (B = 0.11 m, range [1.6, 8] m), camera at the body centre
+  c.multirotor_camera.baseline_m = 0.11;
+  c.multirotor_camera.min_range_m = 1.6;
+  c.multirotor_camera.max_range_m = 8.0;
+  c.multirotor_camera.mount_up_m = 0.0;
+  p.required("scene", c.scene);
+  p.optional("physics_step_s", c.physics_step_s, {1e-4, 1});
+  p.optional("seed", c.seed);
+  p.optional("publish_stereo", c.publish_stereo);
+  p.optional("publish_depth", c.publish_depth);
+  p.optional("publish_depth_gt", c.publish_depth_gt);
+  read_camera(p, "ground_camera_", c.ground_camera);
+  read_camera(p, "multirotor_camera_", c.multirotor_camera);
+  p.optional("depth_noise", c.depth_noise.enabled);
+  p.optional("disparity_error_px", c.depth_noise.disparity_error_px, {0, 10});
+  p.optional("depth_smoothing", c.depth_noise.smoothing);
+  p.optional("imu_rate_hz", c.imu.rate_hz, {0.1, 2000});
+  p.optional("imu_accel_noise_mps2", c.imu.accel_noise_mps2, {0, 10});
+  p.optional("imu_gyro_noise_radps", c.imu.gyro_noise_radps, {0, 10});
+  p.optional("ground_speed_mps", c.ground_speed_mps, {0.01, 10});
+  p.optional("multirotor_speed_mps", c.multirotor_speed_mps, {0.01, 20});
+  return c;
+}
+
+TeamSimulator::TeamSimulator(ComponentContext context, Config config)
+    : Component(std::move(context)), config_(std::move(config)) {}
+
+TeamSimulator::~TeamSimulator() = default;
+
+Result<void, std::string> TeamSimulator::on_configure() {
+  if (clock().type() != ClockType::kSim)
+    return make_unexpected(std::string("the team simulator runs on sim time: set 'clock: sim' in the launch file"));
+  if (team().empty() || team().front().ns.empty())
+    return make_unexpected(std::string("the team simulator needs a robots: section (id, namespace, kind, start)"));
+  auto scene = sim::load_scene(config_.scene);
+  if (!scene) {
+    std::string all;
+    for (const auto& e : scene.error()) all += (all.empty() ? "" : "; ") + e;
+    return make_unexpected("scene: " + all);
+  }
+  std::vector<sim::RobotSpec> robots;
+  for (const TeamMember& m : team()) {
+    sim::RobotSpec r;
+    r.id = m.id;
+    r.name = m.ns;
+    r.kind = m.kind == "multirotor" ? sim::RobotKind::kMultirotor : sim::RobotKind::kGround;
+    r.start_x_m = m.start_x_m;
+    r.start_y_m = m.start_y_m;
+    r.start_z_m = m.start_z_m;
+    r.start_yaw_rad = m.start_yaw_rad;
+    const bool ground = r.kind == sim::RobotKind::kGround;
+    r.camera = ground ? config_.ground_camera : config_.multirotor_camera;
+    r.nominal_speed_mps = ground ? config_.ground_speed_mps : config_.multirotor_speed_mps;
+    r.imu = config_.imu;
+    r.depth_noise = config_.depth_noise;
+    robots.push_back(r);
+  }
+  sim::TeamSimConfig sim_config;
+  sim_config.seed = config_.seed;
+  sim_config.rendering = config_.publish_stereo || config_.publish_depth || config_.publish_depth_gt;
+  auto made = sim::TeamSim::create(*scene, std::move(robots), sim_config);
+  if (!made) return make_unexpected(made.error());
+  sim_ = std::move(made).value();
+
+  ports_.resize(sim_->robot_count());
+  for (size_t i = 0; i < sim_->robot_count(); ++i) {
+    const std::string ns = sim_->robot(i).name + "/";
+    RobotPorts& p = ports_[i];
+    if (config_.publish_stereo) p.stereo = create_publisher<msg::StereoFrame>(ns + "stereo", {.pool_size = 4});
+    if (config_.publish_depth) p.depth = create_publisher<msg::DepthImage>(ns + "depth", {.pool_size = 4});
+    if (config_.publish_depth_gt) p.depth_gt = create_publisher<msg::DepthImage>(ns + "depth_gt", {.pool_size = 4});
+    p.imu = create_publisher<msg::Imu>(ns + "imu", {.pool_size = 16});
+    p.pose_gt = create_publisher<msg::Odometry>(ns + "pose_gt", {.pool_size = 8});
+    create_subscription<msg::VelocityCommand>(ns + "cmd_vel", {.depth = 1},
+                                              [this, i](Sample<msg::VelocityCommand>&& c) { sim_->set_velocity(i, *c); });
+  }
+  create_timer(std::chrono::nanoseconds(period_ns(1.0 / config_.physics_step_s)), [this] { tick(); });
+  return {};
+}
+
+void TeamSimulator::tick() {
+  const int64_t now = clock().now_ns();
+  sim_->step_until(now);
+  for (size_t i = 0; i < ports_.size(); ++i) {
+    RobotPorts& p = ports_[i];
+    const sim::RobotSpec& robot = sim_->robot(i);
+    if (now >= p.next_imu_ns) {
+      p.next_imu_ns = now + period_ns(robot.imu.rate_hz);
+      if (auto loan = p.imu.loan()) {
+        **loan = sim_->imu(i);
+        (**loan).header.stamp_ns = now;
+        (void)p.imu.publish(std::move(*loan));
+      }
+    }
+    if (now >= p.next_frame_ns) {
+      p.next_frame_ns = now + period_ns(robot.camera.rate_hz);
+      publish_frame(i);
+    }
+  }
+}
+
+void TeamSimulator::publish_frame(size_t i) {
+  RobotPorts& p = ports_[i];
+  const int64_t now = clock().now_ns();
+  ++frames_;
+  // ground-truth pose at capture time
+  if (auto loan = p.pose_gt.loan()) {
+    msg::Odometry& odom = **loan;
+    odom.header.stamp_ns = now;
+    odom.T_world_body = sim_->body_pose(i);
+    odom.linear_velocity_mps = sim_->body_velocity(i);
+    odom.tracking_quality = 1.0;
+    (void)p.pose_gt.publish(std::move(*loan));
+  }
+  if (!p.stereo.valid() && !p.depth.valid() && !p.depth_gt.valid()) return;
+  // loan everything first: a frame whose buffers cannot be had is dropped whole, and counted
+  Loan<msg::StereoFrame> stereo;
+  Loan<msg::DepthImage> depth, depth_gt;
+  bool ok = true;
+  const auto take = [&ok](auto& publisher, auto& out) {
+    if (!publisher.valid()) return;
+    auto loan = publisher.loan();
+    if (loan) out = std::move(loan).value();
+    else ok = false;
+  };
+  take(p.stereo, stereo);
+  take(p.depth, depth);
+  take(p.depth_gt, depth_gt);
+  if (!ok) {
+    ++dropped_frames_;
+    return;
+  }
+  // ground truth goes into the noisy message's buffer first (one render for both)
+  msg::DepthImage* gt_target = depth.valid() ? &*depth : (depth_gt.valid() ? &*depth_gt : nullptr);
+  if (auto r = sim_->render_stereo(i, stereo.valid() ? &*stereo : nullptr, gt_target); !r) {
+    SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), r.error().c_str());
+    ++dropped_frames_;
+    return;
+  }
+  if (depth.valid() && depth_gt.valid()) {
+    depth_gt->intrinsics = depth->intrinsics;
+    depth_gt->T_world_cam = depth->T_world_cam;
+    depth_gt->min_range_m = depth->min_range_m;
+    depth_gt->max_range_m = depth->max_range_m;
+    depth_gt->depth_m.assign(depth->depth_m.begin(), depth->depth_m.end());  // capacity kept: no allocation
+  }
+  if (depth.valid()) sim_->make_noisy_depth(i, *depth);
+  if (stereo.valid()) {
+    stereo->header.stamp_ns = now;
+    (void)p.stereo.publish(std::move(stereo));
+  }
+  if (depth.valid()) {
+    depth->header.stamp_ns = now;
+    (void)p.depth.publish(std::move(depth));
+  }
+  if (depth_gt.valid()) {
+    depth_gt->header.stamp_ns = now;
+    (void)p.depth_gt.publish(std::move(depth_gt));
+  }
+}
+
+void TeamSimulator::on_deactivate() {
+  if (!sim_) return;
+  const sim::ContactCounts c = sim_->contacts();
+  SCANCREW_LOG_INFO("%s: %.1f s simulated, %llu frames, %llu dropped (no free buffer), contacts robot-scene %llu, "
+                    "robot-robot %llu",
+                    qualified_name().c_str(), sim_->time_ns() * 1e-9, static_cast<unsigned long long>(frames_),
+                    static_cast<unsigned long long>(dropped_frames_), static_cast<unsigned long long>(c.robot_scene),
+                    static_cast<unsigned long long>(c.robot_robot));
+}
+
+SCANCREW_REGISTER_COMPONENT(TeamSimulator, "team_simulator")
+
+}  // namespace scancrew::components

@@ -1,0 +1,70 @@
+#pragma once
+
+// TeamSimulator: the `sim` backend. Runs the MuJoCo team simulator (sim/team_sim.hpp) on
+// the launch's sim clock and stands in for every robot's hardware: for each robot of the
+// launch file it publishes, in the robot's namespace,
+//   stereo   (StereoFrame, camera rate)     depth    (DepthImage, noisy, thesis 2.6.1)
+//   depth_gt (DepthImage, ground truth)      imu      (Imu, IMU rate)
+//   pose_gt  (Odometry, ground truth, camera rate)
+// and reads cmd_vel (VelocityCommand). A robot graph reads the same topic names from the
+// `hardware` or `replay` backends, so it runs unchanged on any of them.
+//
+// Time: a timer every physics step; each tick steps MuJoCo to the clock's time, then
+// renders and publishes what is due. With the step executor (lockstep), everything the
+// robots do with a frame finishes before the simulation moves on: runs are deterministic.
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "executors/component.hpp"
+#include "executors/params.hpp"
+#include "interfaces/nav_msgs.hpp"
+#include "interfaces/sensor_msgs.hpp"
+#include "sim/team_sim.hpp"
+
+namespace scancrew::components {
+
+class TeamSimulator final : public Component {
+ public:
+  static constexpr std::string_view kDescription =
+      "MuJoCo team simulator: stereo, depth, IMU and pose for every robot; reads cmd_vel (the sim backend)";
+  struct Config {
+    std::string scene;             // scene file (launch_cfg/scenes/*.yaml), relative to the working directory
+    double physics_step_s = 0.01;  // timer period; MuJoCo integrates at mjcf timestep inside it
+    uint64_t seed = 1;
+    bool publish_stereo = true, publish_depth = true, publish_depth_gt = false;
+    sim::CameraSpec ground_camera, multirotor_camera;
+    sim::DepthNoiseSpec depth_noise;
+    sim::ImuSpec imu;
+    double ground_speed_mps = 0.5, multirotor_speed_mps = 0.6;
+  };
+  static Config read_config(ParamReader& p);
+
+  TeamSimulator(ComponentContext context, Config config);
+  ~TeamSimulator() override;
+
+  const sim::TeamSim* simulator() const { return sim_.get(); }
+
+ private:
+  struct RobotPorts {
+    Publisher<msg::StereoFrame> stereo;
+    Publisher<msg::DepthImage> depth, depth_gt;
+    Publisher<msg::Imu> imu;
+    Publisher<msg::Odometry> pose_gt;
+    int64_t next_frame_ns = 0, next_imu_ns = 0;
+  };
+
+  Result<void, std::string> on_configure() override;
+  void on_deactivate() override;
+  void tick();
+  void publish_frame(size_t robot);
+
+  Config config_;
+  std::unique_ptr<sim::TeamSim> sim_;
+  std::vector<RobotPorts> ports_;
+  uint64_t frames_ = 0, dropped_frames_ = 0;
+};
+
+}  // namespace scancrew::components
