@@ -11,6 +11,7 @@
 #include "executors/registry.hpp"
 #ifdef SCANCREW_WITH_BENCH
 #include "bench/ipc/ipc_bench.hpp"
+#include "bench/sim/sim_bench.hpp"
 #endif
 
 namespace {
@@ -124,12 +125,30 @@ int main(int argc, char** argv) {
          "Fast DDS intra-process delivery: full (library default) or off (data-sharing path)")
       ->check(CLI::IsMember({"full", "off"}));
 
+  scancrew::bench::SimBenchOptions sim_bench;
+  auto* sim_cmd =
+      bench->add_subcommand("sim", "simulator: render time per stereo pair, real-time factor");
+  sim_cmd->add_flag("--json", sim_bench.json, "print one JSON object");
+  sim_cmd->add_option("--scene", sim_bench.scene_path, "scene file")->check(CLI::ExistingFile);
+  sim_cmd->add_option("--renders", sim_bench.renders, "stereo pairs timed per size")
+      ->check(CLI::Range(5, 100000));
+  sim_cmd->add_option("--sim-seconds", sim_bench.sim_seconds, "simulated seconds per case")
+      ->check(CLI::Range(0.1, 3600.0));
+
   CLI11_PARSE(app, argc, argv);
 
   if (run->parsed()) return cmd_run(launch_path);
   if (components->parsed()) return cmd_components();
   if (graph->parsed()) return cmd_graph(graph_path);
   if (render->parsed()) return scancrew::cli::run_render(render_options);
+  if (sim_cmd->parsed()) {
+#ifdef SCANCREW_WITH_BENCH
+    return scancrew::bench::run_sim_bench(sim_bench);
+#else
+    std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
+    return 2;
+#endif
+  }
   if (ipc->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_ipc_bench({.samples = samples,

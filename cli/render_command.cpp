@@ -47,10 +47,10 @@ int run_render(const RenderOptions& o) {
   if (o.pose.size() == 3) {
     candidates.push_back({o.pose[0], o.pose[1], o.pose[2] * M_PI / 180.0});
   } else {
-    for (double fx : {0.0, 1.0})
-      for (double fy : {0.0, 1.0}) {
-        const double x = fx ? scene->max_m.x - 1 : scene->min_m.x + 1;
-        const double y = fy ? scene->max_m.y - 1 : scene->min_m.y + 1;
+    for (bool east : {false, true})
+      for (bool north : {false, true}) {
+        const double x = east ? scene->max_m.x - 1 : scene->min_m.x + 1;
+        const double y = north ? scene->max_m.y - 1 : scene->min_m.y + 1;
         candidates.push_back({x, y, std::atan2(cy - y, cx - x)});
       }
   }

@@ -102,8 +102,8 @@ void Component::note_port(std::string_view port, const std::string& topic, std::
 }
 
 const std::vector<TeamMember>& Component::team() const {
-  static const std::vector<TeamMember> kNone;
-  return context_.team ? *context_.team : kNone;
+  static const std::vector<TeamMember> none;
+  return context_.team ? *context_.team : none;
 }
 
 Timer* Component::create_timer(std::chrono::nanoseconds period, Timer::Callback callback) {

@@ -108,8 +108,9 @@ struct TeamSim::Impl {
       const uint8_t* src = &rgb[size_t{h - 1 - y} * w * 3];
       uint8_t* dst = &out[size_t{y} * w];
       for (uint32_t x = 0; x < w; ++x)
-        dst[x] = static_cast<uint8_t>(
-            (299 * src[3 * x] + 587 * src[3 * x + 1] + 114 * src[3 * x + 2]) / 1000);
+        dst[x] = static_cast<uint8_t>((299 * src[3 * size_t{x}] + 587 * src[3 * size_t{x} + 1] +
+                                       114 * src[3 * size_t{x} + 2]) /
+                                      1000);
     }
   }
   void to_depth(uint32_t w, uint32_t h, std::vector<float>& out) const {
@@ -255,7 +256,7 @@ void TeamSim::set_velocity(size_t robot, const msg::VelocityCommand& command) {
 
 msg::Pose3 TeamSim::body_pose(size_t robot) const {
   const mjData* d = impl_->data;
-  const int b = impl_->ids[robot].body;
+  const auto b = static_cast<size_t>(impl_->ids[robot].body);
   msg::Pose3 pose;
   pose.position = {d->xpos[3 * b], d->xpos[3 * b + 1], d->xpos[3 * b + 2]};
   pose.orientation = {d->xquat[4 * b], d->xquat[4 * b + 1], d->xquat[4 * b + 2],
@@ -271,7 +272,7 @@ msg::Vec3 TeamSim::body_velocity(size_t robot) const {
 
 msg::Pose3 TeamSim::camera_pose(size_t robot) const {
   const mjData* d = impl_->data;
-  const int c = impl_->ids[robot].cam_left;
+  const auto c = static_cast<size_t>(impl_->ids[robot].cam_left);
   // MuJoCo camera frame: x right, y up, looking along -z; optical frame: x right, y down, z forward
   mjtNum optical[9];
   const mjtNum* m = d->cam_xmat + 9 * c;

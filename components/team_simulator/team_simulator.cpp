@@ -23,7 +23,9 @@ void read_camera(ParamReader& p, const std::string& prefix, sim::CameraSpec& c) 
   if (auto problem = c.validate(); !problem.empty()) p.report(prefix + "width", problem);
 }
 
-int64_t period_ns(double rate_hz) { return static_cast<int64_t>(std::llround(1e9 / rate_hz)); }
+int64_t period_ns(double rate_hz) {
+  return static_cast<int64_t>(std::llround(1e9 / rate_hz));
+}
 
 }  // namespace
 
@@ -60,9 +62,11 @@ TeamSimulator::~TeamSimulator() = default;
 
 Result<void, std::string> TeamSimulator::on_configure() {
   if (clock().type() != ClockType::kSim)
-    return make_unexpected(std::string("the team simulator runs on sim time: set 'clock: sim' in the launch file"));
+    return make_unexpected(
+        std::string("the team simulator runs on sim time: set 'clock: sim' in the launch file"));
   if (team().empty() || team().front().ns.empty())
-    return make_unexpected(std::string("the team simulator needs a robots: section (id, namespace, kind, start)"));
+    return make_unexpected(
+        std::string("the team simulator needs a robots: section (id, namespace, kind, start)"));
   auto scene = sim::load_scene(config_.scene);
   if (!scene) {
     std::string all;
@@ -88,7 +92,8 @@ Result<void, std::string> TeamSimulator::on_configure() {
   }
   sim::TeamSimConfig sim_config;
   sim_config.seed = config_.seed;
-  sim_config.rendering = config_.publish_stereo || config_.publish_depth || config_.publish_depth_gt;
+  sim_config.rendering =
+      config_.publish_stereo || config_.publish_depth || config_.publish_depth_gt;
   auto made = sim::TeamSim::create(*scene, std::move(robots), sim_config);
   if (!made) return make_unexpected(made.error());
   sim_ = std::move(made).value();
@@ -97,15 +102,20 @@ Result<void, std::string> TeamSimulator::on_configure() {
   for (size_t i = 0; i < sim_->robot_count(); ++i) {
     const std::string ns = sim_->robot(i).name + "/";
     RobotPorts& p = ports_[i];
-    if (config_.publish_stereo) p.stereo = create_publisher<msg::StereoFrame>(ns + "stereo", {.pool_size = 4});
-    if (config_.publish_depth) p.depth = create_publisher<msg::DepthImage>(ns + "depth", {.pool_size = 4});
-    if (config_.publish_depth_gt) p.depth_gt = create_publisher<msg::DepthImage>(ns + "depth_gt", {.pool_size = 4});
+    if (config_.publish_stereo)
+      p.stereo = create_publisher<msg::StereoFrame>(ns + "stereo", {.pool_size = 4});
+    if (config_.publish_depth)
+      p.depth = create_publisher<msg::DepthImage>(ns + "depth", {.pool_size = 4});
+    if (config_.publish_depth_gt)
+      p.depth_gt = create_publisher<msg::DepthImage>(ns + "depth_gt", {.pool_size = 4});
     p.imu = create_publisher<msg::Imu>(ns + "imu", {.pool_size = 16});
     p.pose_gt = create_publisher<msg::Odometry>(ns + "pose_gt", {.pool_size = 8});
-    create_subscription<msg::VelocityCommand>(ns + "cmd_vel", {.depth = 1},
-                                              [this, i](Sample<msg::VelocityCommand>&& c) { sim_->set_velocity(i, *c); });
+    create_subscription<msg::VelocityCommand>(
+        ns + "cmd_vel", {.depth = 1},
+        [this, i](Sample<msg::VelocityCommand>&& c) { sim_->set_velocity(i, *c); });
   }
-  create_timer(std::chrono::nanoseconds(period_ns(1.0 / config_.physics_step_s)), [this] { tick(); });
+  create_timer(std::chrono::nanoseconds(period_ns(1.0 / config_.physics_step_s)),
+               [this] { tick(); });
   return {};
 }
 
@@ -151,8 +161,10 @@ void TeamSimulator::publish_frame(size_t i) {
   const auto take = [&ok](auto& publisher, auto& out) {
     if (!publisher.valid()) return;
     auto loan = publisher.loan();
-    if (loan) out = std::move(loan).value();
-    else ok = false;
+    if (loan)
+      out = std::move(loan).value();
+    else
+      ok = false;
   };
   take(p.stereo, stereo);
   take(p.depth, depth);
@@ -173,7 +185,8 @@ void TeamSimulator::publish_frame(size_t i) {
     depth_gt->T_world_cam = depth->T_world_cam;
     depth_gt->min_range_m = depth->min_range_m;
     depth_gt->max_range_m = depth->max_range_m;
-    depth_gt->depth_m.assign(depth->depth_m.begin(), depth->depth_m.end());  // capacity kept: no allocation
+    depth_gt->depth_m.assign(depth->depth_m.begin(),
+                             depth->depth_m.end());  // capacity kept: no allocation
   }
   if (depth.valid()) sim_->make_noisy_depth(i, *depth);
   if (stereo.valid()) {
@@ -193,11 +206,14 @@ void TeamSimulator::publish_frame(size_t i) {
 void TeamSimulator::on_deactivate() {
   if (!sim_) return;
   const sim::ContactCounts c = sim_->contacts();
-  SCANCREW_LOG_INFO("%s: %.1f s simulated, %llu frames, %llu dropped (no free buffer), contacts robot-scene %llu, "
-                    "robot-robot %llu",
-                    qualified_name().c_str(), sim_->time_ns() * 1e-9, static_cast<unsigned long long>(frames_),
-                    static_cast<unsigned long long>(dropped_frames_), static_cast<unsigned long long>(c.robot_scene),
-                    static_cast<unsigned long long>(c.robot_robot));
+  SCANCREW_LOG_INFO(
+      "%s: %.1f s simulated, %llu frames, %llu dropped (no free buffer), contacts robot-scene "
+      "%llu, "
+      "robot-robot %llu",
+      qualified_name().c_str(), sim_->time_ns() * 1e-9, static_cast<unsigned long long>(frames_),
+      static_cast<unsigned long long>(dropped_frames_),
+      static_cast<unsigned long long>(c.robot_scene),
+      static_cast<unsigned long long>(c.robot_robot));
 }
 
 SCANCREW_REGISTER_COMPONENT(TeamSimulator, "team_simulator")

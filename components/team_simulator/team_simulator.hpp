@@ -29,9 +29,10 @@ namespace scancrew::components {
 class TeamSimulator final : public Component {
  public:
   static constexpr std::string_view kDescription =
-      "MuJoCo team simulator: stereo, depth, IMU and pose for every robot; reads cmd_vel (the sim backend)";
+      "MuJoCo team simulator: stereo, depth, IMU and pose for every robot; reads cmd_vel (the sim "
+      "backend)";
   struct Config {
-    std::string scene;             // scene file (launch_cfg/scenes/*.yaml), relative to the working directory
+    std::string scene;  // scene file (launch_cfg/scenes/*.yaml), relative to the working directory
     double physics_step_s = 0.01;  // timer period; MuJoCo integrates at mjcf timestep inside it
     uint64_t seed = 1;
     bool publish_stereo = true, publish_depth = true, publish_depth_gt = false;

@@ -1,12 +1,11 @@
 // The sim backend in a composed graph, on sim time with the step executor: sensors at
 // their rates, velocity commands applied, lockstep runs reproducible.
 
-#include "components/team_simulator/team_simulator.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "components/team_simulator/team_simulator.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 
@@ -59,16 +58,24 @@ class Recorder final : public Component {
 
  private:
   Result<void, std::string> on_configure() override {
-    create_subscription<msg::StereoFrame>("stereo", {.depth = 4}, [this](Sample<msg::StereoFrame>&& s) {
-      stereo_stamps.push_back(s->header.stamp_ns);
-      for (uint8_t b : s->left) image_hash = (image_hash ^ b) * 1099511628211ull;
+    create_subscription<msg::StereoFrame>("stereo", {.depth = 4},
+                                          [this](Sample<msg::StereoFrame>&& s) {
+                                            stereo_stamps.push_back(s->header.stamp_ns);
+                                            for (uint8_t b : s->left)
+                                              image_hash = (image_hash ^ b) * 1099511628211ull;
+                                          });
+    create_subscription<msg::Imu>("imu", {.depth = 16}, [this](Sample<msg::Imu>&& s) {
+      imu_stamps.push_back(s->header.stamp_ns);
     });
-    create_subscription<msg::Imu>("imu", {.depth = 16}, [this](Sample<msg::Imu>&& s) { imu_stamps.push_back(s->header.stamp_ns); });
-    create_subscription<msg::Odometry>("pose_gt", {.depth = 4}, [this](Sample<msg::Odometry>&& s) { poses.push_back(s->T_world_body); });
-    create_subscription<msg::DepthImage>("depth", {.depth = 4}, [this](Sample<msg::DepthImage>&& s) {
-      ++depth_frames;
-      for (float z : s->depth_m) depth_valid += std::isnan(z) ? 0 : 1;
+    create_subscription<msg::Odometry>("pose_gt", {.depth = 4}, [this](Sample<msg::Odometry>&& s) {
+      poses.push_back(s->T_world_body);
     });
+    create_subscription<msg::DepthImage>("depth", {.depth = 4},
+                                         [this](Sample<msg::DepthImage>&& s) {
+                                           ++depth_frames;
+                                           for (float z : s->depth_m)
+                                             depth_valid += std::isnan(z) ? 0 : 1;
+                                         });
     return {};
   }
 };
@@ -89,7 +96,8 @@ components:
     type: team_simulator
     per_robot: false
     params:
-      scene: )") + scene + R"(
+      scene: )") +
+         scene + R"(
       seed: 3
       ground_camera_width: 160
       ground_camera_height: 93
@@ -106,7 +114,8 @@ struct RunResult {
 };
 
 RunResult run_once() {
-  auto launch = Launch::from_string(launch_text(SCANCREW_SOURCE_DIR "/launch_cfg/scenes/tiny.yaml"), "sim.yaml");
+  auto launch = Launch::from_string(launch_text(SCANCREW_SOURCE_DIR "/launch_cfg/scenes/tiny.yaml"),
+                                    "sim.yaml");
   EXPECT_TRUE(launch) << (launch ? "" : launch.error().front());
   RunResult r;
   if (!launch) return r;
@@ -159,19 +168,23 @@ TEST(TeamSimulator, RefusesAWallClockAndABadScene) {
   text.replace(text.find("executor: {type: step}"), 22, "executor: {type: single_threaded}");
   auto launch = Launch::from_string(text, "wall.yaml");
   ASSERT_FALSE(launch);
-  EXPECT_NE(launch.error().front().find("runs on sim time"), std::string::npos) << launch.error().front();
+  EXPECT_NE(launch.error().front().find("runs on sim time"), std::string::npos)
+      << launch.error().front();
 
   launch = Launch::from_string(launch_text("/nonexistent/scene.yaml"), "bad.yaml");
   ASSERT_FALSE(launch);
-  EXPECT_NE(launch.error().front().find("cannot open the scene file"), std::string::npos) << launch.error().front();
+  EXPECT_NE(launch.error().front().find("cannot open the scene file"), std::string::npos)
+      << launch.error().front();
 }
 
 TEST(TeamSimulator, RefusesARobotStartingInsideAnObstacle) {
   std::string text = launch_text(SCANCREW_SOURCE_DIR "/launch_cfg/scenes/tiny.yaml");
-  text.replace(text.find("start: [-1.0, -1.0, 0, 0]"), 25, "start: [1.0, 0.5, 0, 0]  ");  // the block
+  text.replace(text.find("start: [-1.0, -1.0, 0, 0]"), 25,
+               "start: [1.0, 0.5, 0, 0]  ");  // the block
   auto launch = Launch::from_string(text, "inside.yaml");
   ASSERT_FALSE(launch);
-  EXPECT_NE(launch.error().front().find("r1 starts inside 'block'"), std::string::npos) << launch.error().front();
+  EXPECT_NE(launch.error().front().find("r1 starts inside 'block'"), std::string::npos)
+      << launch.error().front();
 }
 
 }  // namespace
