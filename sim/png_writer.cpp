@@ -28,11 +28,12 @@ Result<void, std::string> write_png(const std::string& path, const std::vector<u
                channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
-  for (uint32_t y = 0; y < height; ++y)
-    png_write_row(png, const_cast<png_bytep>(
-                           &pixels[size_t{y} * width *
-                                   channels]));  // NOLINT(cppcoreguidelines-pro-type-const-cast):
-                                                 // libpng's API is not const-correct; it only reads
+  for (uint32_t y = 0; y < height; ++y) {
+    // libpng's row pointer is not const-correct; png_write_row only reads the row
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-const-cast): libpng reads only
+    auto* row = const_cast<png_bytep>(&pixels[size_t{y} * width * channels]);
+    png_write_row(png, row);
+  }
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
   std::fclose(file);

@@ -4,9 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <vector>
-
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "sim/team_sim.hpp"
 
@@ -16,10 +15,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 // Square pixels: the vertical FOV that a 90° horizontal FOV gives at this aspect.
-double fov_v_for(uint32_t w, uint32_t h) { return 2.0 * std::atan(std::tan(M_PI / 4) * h / w) * 180.0 / M_PI; }
+double fov_v_for(uint32_t w, uint32_t h) {
+  return 2.0 * std::atan(std::tan(M_PI / 4) * h / w) * 180.0 / M_PI;
+}
 
 sim::RobotSpec robot(uint32_t id, double x, double y, uint32_t w, uint32_t h) {
   sim::RobotSpec r;
@@ -37,7 +40,8 @@ sim::RobotSpec robot(uint32_t id, double x, double y, uint32_t w, uint32_t h) {
 // Free start positions in the parking lot (the default scene): a row along y = -6 m.
 std::vector<sim::RobotSpec> team(int n, uint32_t w, uint32_t h) {
   std::vector<sim::RobotSpec> robots;
-  for (int i = 0; i < n; ++i) robots.push_back(robot(static_cast<uint32_t>(i + 1), -9.0 + 2.0 * i, -6.0, w, h));
+  for (int i = 0; i < n; ++i)
+    robots.push_back(robot(static_cast<uint32_t>(i + 1), -9.0 + 2.0 * i, -6.0, w, h));
   return robots;
 }
 
@@ -78,8 +82,11 @@ int run_sim_bench(const SimBenchOptions& o) {
       if (i >= 5) ms.push_back(seconds_since(t0) * 1e3);
     }
     std::sort(ms.begin(), ms.end());
-    out["render"].push_back({{"width", w}, {"height", h}, {"p50_ms", ms[ms.size() / 2]},
-                             {"p90_ms", ms[ms.size() * 9 / 10]}, {"max_ms", ms.back()}});
+    out["render"].push_back({{"width", w},
+                             {"height", h},
+                             {"p50_ms", ms[ms.size() / 2]},
+                             {"p90_ms", ms[ms.size() * 9 / 10]},
+                             {"max_ms", ms.back()}});
   }
 
   // 2. the team simulator as the sim backend runs it: 10 ms physics ticks, 5 Hz cameras
@@ -111,24 +118,29 @@ int run_sim_bench(const SimBenchOptions& o) {
       }
     }
     const double wall = seconds_since(t0);
-    out["real_time_factor"].push_back(
-        {{"robots", n}, {"camera", "320x256 at 5 Hz"}, {"sim_s", o.sim_seconds}, {"wall_s", wall},
-         {"rtf", o.sim_seconds / wall}});
+    out["real_time_factor"].push_back({{"robots", n},
+                                       {"camera", "320x256 at 5 Hz"},
+                                       {"sim_s", o.sim_seconds},
+                                       {"wall_s", wall},
+                                       {"rtf", o.sim_seconds / wall}});
   }
 
   if (o.json) {
     std::printf("%s\n", out.dump().c_str());
     return 0;
   }
-  std::printf("scene %s\n\nstereo pair (left + right + depth + noise model):\n", scene->name.c_str());
+  std::printf("scene %s\n\nstereo pair (left + right + depth + noise model):\n",
+              scene->name.c_str());
   std::printf("  %-10s %8s %8s %8s\n", "size", "p50_ms", "p90_ms", "max_ms");
   for (const auto& r : out["render"])
     std::printf("  %4dx%-5d %8.2f %8.2f %8.2f\n", r["width"].get<int>(), r["height"].get<int>(),
                 r["p50_ms"].get<double>(), r["p90_ms"].get<double>(), r["max_ms"].get<double>());
-  std::printf("\nteam simulator, cameras 320x256 at 5 Hz, 10 ms physics ticks, %.0f s simulated:\n", o.sim_seconds);
+  std::printf("\nteam simulator, cameras 320x256 at 5 Hz, 10 ms physics ticks, %.0f s simulated:\n",
+              o.sim_seconds);
   std::printf("  %-7s %8s %8s\n", "robots", "wall_s", "rtf");
   for (const auto& r : out["real_time_factor"])
-    std::printf("  %-7d %8.2f %8.2f\n", r["robots"].get<int>(), r["wall_s"].get<double>(), r["rtf"].get<double>());
+    std::printf("  %-7d %8.2f %8.2f\n", r["robots"].get<int>(), r["wall_s"].get<double>(),
+                r["rtf"].get<double>());
   return 0;
 }
 
