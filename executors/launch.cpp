@@ -363,22 +363,15 @@ class LaunchBuilder {
 Result<std::unique_ptr<Launch>, Launch::Errors> Launch::from_string(const std::string& text,
                                                                     const std::string& label) {
   LaunchBuilder builder(label);
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    return builder.fail(label + ":" + std::to_string(e.mark.line + 1) +
-                        ": not valid YAML: " + e.msg);
-  }
-  return builder.build(root);
+  auto root = parse_yaml(text, label);
+  if (!root) return builder.fail(root.error());
+  return builder.build(*root);
 }
 
 Result<std::unique_ptr<Launch>, Launch::Errors> Launch::from_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return make_unexpected(Errors{path + ": cannot open the launch file"});
-  std::stringstream text;
-  text << in.rdbuf();
-  return from_string(text.str(), path);
+  const auto text = read_text_file(path);
+  if (!text) return make_unexpected(Errors{path + ": cannot open the launch file"});
+  return from_string(*text, path);
 }
 
 Launch::~Launch() {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <sstream>
 
 #include "executors/params_impl.hpp"
@@ -12,6 +13,23 @@ namespace scancrew {
 std::string yaml_location(const std::string& file, const YAML::Node& node) {
   if (!node.IsDefined() || node.Mark().line < 0) return file;
   return file + ":" + std::to_string(node.Mark().line + 1);
+}
+
+Result<YAML::Node, std::string> parse_yaml(const std::string& text, const std::string& label) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    return make_unexpected(label + ":" + std::to_string(e.mark.line + 1) +
+                           ": not valid YAML: " + e.msg);
+  }
+}
+
+std::optional<std::string> read_text_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 ParamReader make_param_reader(const YAML::Node& node, const std::string& file,
@@ -33,13 +51,10 @@ ParamReader::ParamReader(ParamReader&&) noexcept = default;
 ParamReader& ParamReader::operator=(ParamReader&&) noexcept = default;
 
 ParamReader ParamReader::from_yaml_string(const std::string& text, const std::string& where) {
-  try {
-    return make_param_reader(YAML::Load(text), where, "params");
-  } catch (const YAML::Exception& e) {
-    ParamReader reader = make_param_reader(YAML::Node(), where, "params");
-    reader.errors_.push_back(where + ": not valid YAML: " + e.what());
-    return reader;
-  }
+  auto root = parse_yaml(text, where);
+  ParamReader reader = make_param_reader(root ? *root : YAML::Node(), where, "params");
+  if (!root) reader.errors_.push_back(root.error());
+  return reader;
 }
 
 std::string ParamReader::where() const {
@@ -178,7 +193,7 @@ SCANCREW_PARAM_TYPE(uint64_t)
 SCANCREW_PARAM_TYPE(bool)
 SCANCREW_PARAM_TYPE(std::string)
 #undef SCANCREW_PARAM_TYPE
-// NOLINTEND(bugprone-macro-parentheses)
+// NOLINTEND(bugprone-macro-parentheses): end of the explicit instantiations above
 
 void ParamReader::choice(std::string_view key, std::string& value,
                          std::initializer_list<std::string_view> allowed, bool is_required) {

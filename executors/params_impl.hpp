@@ -4,9 +4,11 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <optional>
 #include <string>
 
 #include "executors/params.hpp"
+#include "executors/result.hpp"
 
 namespace scancrew {
 
@@ -18,6 +20,11 @@ struct ParamReader::Impl {
 
 // "file:line" of a node (line 1-based), or just the file when the node has no mark.
 std::string yaml_location(const std::string& file, const YAML::Node& node);
+
+// Parses YAML text; the error names the label (a file) and line.
+Result<YAML::Node, std::string> parse_yaml(const std::string& text, const std::string& label);
+// The whole file, or nothing when it cannot be read.
+std::optional<std::string> read_text_file(const std::string& path);
 
 ParamReader make_param_reader(const YAML::Node& node, const std::string& file,
                               const std::string& path);

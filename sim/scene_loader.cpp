@@ -173,22 +173,16 @@ Result<SceneSpec, std::vector<std::string>> parse_scene(const std::string& yaml_
                                                         const std::string& label,
                                                         const std::string& base_dir) {
   SceneReader reader(label, base_dir);
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    return reader.fail(label + ":" + std::to_string(e.mark.line + 1) +
-                       ": not valid YAML: " + e.msg);
-  }
-  return reader.read(root);
+  auto root = parse_yaml(yaml_text, label);
+  if (!root) return reader.fail(root.error());
+  return reader.read(*root);
 }
 
 Result<SceneSpec, std::vector<std::string>> load_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return make_unexpected(std::vector<std::string>{path + ": cannot open the scene file"});
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
+  const auto text = read_text_file(path);
+  if (!text)
+    return make_unexpected(std::vector<std::string>{path + ": cannot open the scene file"});
+  return parse_scene(*text, path, std::filesystem::path(path).parent_path().string());
 }
 
 }  // namespace scancrew::sim

@@ -45,6 +45,16 @@ std::vector<sim::RobotSpec> team(int n, uint32_t w, uint32_t h) {
   return robots;
 }
 
+std::unique_ptr<sim::TeamSim> make_sim(const sim::SceneSpec& scene,
+                                       std::vector<sim::RobotSpec> robots) {
+  auto made = sim::TeamSim::create(scene, std::move(robots), {});
+  if (!made) {
+    std::fprintf(stderr, "bench sim: %s\n", made.error().c_str());
+    return nullptr;
+  }
+  return std::move(made).value();
+}
+
 }  // namespace
 
 int run_sim_bench(const SimBenchOptions& o) {
@@ -60,12 +70,9 @@ int run_sim_bench(const SimBenchOptions& o) {
 
   // 1. one stereo pair (left + right images, depth read back, noise model applied)
   for (auto [w, h] : {std::pair<uint32_t, uint32_t>{320, 256}, {640, 480}}) {
-    auto made = sim::TeamSim::create(*scene, team(1, w, h), {});
-    if (!made) {
-      std::fprintf(stderr, "bench sim: %s\n", made.error().c_str());
-      return 2;
-    }
-    auto& s = **made;
+    auto made = make_sim(*scene, team(1, w, h));
+    if (!made) return 2;
+    auto& s = *made;
     msg::StereoFrame stereo;
     msg::DepthImage depth;
     std::vector<double> ms;
@@ -91,12 +98,9 @@ int run_sim_bench(const SimBenchOptions& o) {
 
   // 2. the team simulator as the sim backend runs it: 10 ms physics ticks, 5 Hz cameras
   for (int n : {1, 3, 5}) {
-    auto made = sim::TeamSim::create(*scene, team(n, 320, 256), {});
-    if (!made) {
-      std::fprintf(stderr, "bench sim: %s\n", made.error().c_str());
-      return 2;
-    }
-    auto& s = **made;
+    auto made = make_sim(*scene, team(n, 320, 256));
+    if (!made) return 2;
+    auto& s = *made;
     msg::StereoFrame stereo;
     msg::DepthImage depth;
     const int64_t tick = 10'000'000, frame = 200'000'000;
