@@ -1,10 +1,11 @@
-// scancrew: the command line. Subcommands: run, components, graph, bench.
+// scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, bench.
 
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
 #include <string>
 
+#include "cli/groundtruth_command.hpp"
 #include "cli/render_command.hpp"
 #include "cli/report.hpp"
 #include "executors/launch.hpp"
@@ -108,6 +109,16 @@ int main(int argc, char** argv) {
                    "image height (with the width, sets the FOV aspect)")
       ->check(CLI::Range(16u, 1080u));
 
+  scancrew::cli::GroundTruthOptions gt_options;
+  auto* groundtruth = app.add_subcommand(
+      "groundtruth", "sample points with normals on a scene's visible surfaces, as a PLY");
+  groundtruth->add_option("scene", gt_options.scene_path, "scene file (YAML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  groundtruth->add_option("--out", gt_options.out_path, "output file (.ply)")->required();
+  groundtruth->add_option("--density", gt_options.density_per_m2, "points per m2 (default 10000)");
+  groundtruth->add_option("--seed", gt_options.seed, "random seed (default 1)");
+
   auto* bench = app.add_subcommand("bench", "benchmarks");
   bench->require_subcommand(1);
   auto* ipc =
@@ -141,6 +152,7 @@ int main(int argc, char** argv) {
   if (components->parsed()) return cmd_components();
   if (graph->parsed()) return cmd_graph(graph_path);
   if (render->parsed()) return scancrew::cli::run_render(render_options);
+  if (groundtruth->parsed()) return scancrew::cli::run_groundtruth(gt_options);
   if (sim_cmd->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_sim_bench(sim_bench);

@@ -18,6 +18,7 @@ struct StereoFrame {
   Header header;                // stamp: capture time
   CameraIntrinsics intrinsics;  // of the left (and, rectified, the right) image
   double baseline_m = 0;
+  Pose3 T_body_cam;  // the left camera's optical frame (z forward, x right, y down) on the body
   std::vector<uint8_t> left, right;  // width*height each
 };
 

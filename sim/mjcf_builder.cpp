@@ -40,6 +40,10 @@ std::string body_name(const RobotSpec& robot) {
   return robot.name;
 }
 
+double texture_period_m(const SceneSpec& scene) {
+  return 1024 * scene.dot_size_m;
+}
+
 double camera_height_m(const RobotSpec& robot) {
   return robot.camera.mount_up_m;
 }
@@ -54,7 +58,7 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
   // depth buffer range: 2 cm to 4x the scene diagonal (relative to the extent, as MuJoCo wants)
   const double znear = 0.02 / extent, zfar = 4.0;
   // random dots: one texel per dot, a 1024-texel texture repeated every 1024 dots
-  const double texrepeat = 1.0 / (1024 * scene.dot_size_m);
+  const double texrepeat = 1.0 / texture_period_m(scene);
 
   std::ostringstream x;
   x.precision(10);
@@ -82,9 +86,12 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
   material("wall_mat", {0.75, 0.8, 0.85});
   for (const auto& b : scene.boxes) material("obj_" + b.name, b.color);
   for (const auto& c : scene.cylinders) material("obj_" + c.name, c.color);
-  for (const auto& m : scene.meshes) {
-    material("obj_" + m.name, m.color);
-    x << "    <mesh name=\"" << m.name << "_mesh\" file=\"" << m.file << "\"/>\n";
+  // meshes carry their own texture coordinates (one repeat per texture period)
+  for (size_t i = 0; i < scene.meshes.size(); ++i) {
+    const MeshSpec& m = scene.meshes[i];
+    x << "    <material name=\"obj_" << m.name << "\" texture=\"dots\" texrepeat=\"1 1\" rgba=\""
+      << rgb(m.color) << " 1\" specular=\"0\" shininess=\"0\"/>\n"
+      << "    <mesh name=\"" << m.name << "_mesh\" file=\"" << o.mesh_files.at(i) << "\"/>\n";
   }
   x << "    <material name=\"robot_mat\" rgba=\"0.9 0.4 0.1 1\"/>\n";
   x << "  </asset>\n  <worldbody>\n";

@@ -20,8 +20,14 @@ struct MjcfOptions {
   uint32_t offscreen_width = 640, offscreen_height = 480;  // >= every camera
   double velocity_response =
       0.5;  // share of the velocity error an actuator removes per step (0, 1]
+  // The placed, textured OBJ of each scene.meshes entry (write_textured_obj), in order.
+  std::vector<std::string> mesh_files;
 };
 
+// One repeat of the random-dot texture covers this length (1024 dots).
+double texture_period_m(const SceneSpec& scene);
+
+// options.mesh_files must hold one file per scene mesh (std::out_of_range otherwise).
 std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& robots,
                        const MjcfOptions& options);
 

@@ -32,8 +32,9 @@ struct CylinderSpec {
   Rgb color;
 };
 
-// A triangle mesh (OBJ or STL). It is scaled uniformly so its bounding box fits fit_m,
-// then its bounding box is centred on center_m (x, y) and rests on z = center_m.z.
+// A triangle mesh (any format assimp reads: COLLADA, OBJ, STL, PLY, ...; z up). It is scaled
+// uniformly so its bounding box fits fit_m, then its bounding box is centred on center_m
+// (x, y) and rests on z = center_m.z (sim/mesh_io.hpp). It is textured by box projection.
 // Meshes are visual only: MuJoCo would collide with their convex hull, which would close
 // every passage of a building, so robot contacts with meshes are not counted.
 struct MeshSpec {

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "executors/params_impl.hpp"
+#include "sim/mesh_io.hpp"
 #include "sim/scene.hpp"
 
 namespace scancrew::sim {
@@ -152,11 +153,9 @@ class SceneReader {
       std::filesystem::path p(m.file);
       if (p.is_relative()) p = std::filesystem::path(base_dir_) / p;
       m.file = p.lexically_normal().string();
-      const std::string ext = p.extension().string();
-      if (ext != ".obj" && ext != ".stl" && ext != ".OBJ" && ext != ".STL")
-        r.report("file",
-                 "'" + m.file +
-                     "' is not OBJ or STL; convert it first (scripts/convert_mesh.sh uses assimp)");
+      if (!mesh_format_supported(p.extension().string()))
+        r.report("file", "'" + m.file +
+                             "': not a mesh format assimp reads (use COLLADA, OBJ, STL, PLY, ...)");
       else if (!std::filesystem::exists(p))
         r.report("file", "mesh file '" + m.file + "' does not exist");
     }

@@ -12,6 +12,7 @@
 
 #include "sim/depth_noise.hpp"
 #include "sim/gl_context.hpp"
+#include "sim/mesh_io.hpp"
 
 namespace scancrew::sim {
 
@@ -139,19 +140,38 @@ Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& s
                              std::to_string(r.start_y_m) + ") is outside the scene bounds");
   }
   sim->robots_ = std::move(robots);
-  sim->mjcf_ = build_mjcf(scene, sim->robots_, mjcf);
 
-  // MuJoCo loads from a file: a private temporary one (meshes are named by absolute path)
-  const auto dir = std::filesystem::temp_directory_path();
-  const auto file =
-      dir / ("scancrew_scene_" + std::to_string(reinterpret_cast<uintptr_t>(sim.get())) + ".xml");
+  // MuJoCo loads from files: a private temporary directory with the MJCF and the placed,
+  // textured meshes (MuJoCo 2.2 reads OBJ/STL only; load_mesh reads COLLADA and more)
+  std::error_code ec;
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("scancrew_scene_" + std::to_string(reinterpret_cast<uintptr_t>(sim.get())));
+  std::filesystem::create_directories(dir, ec);
+  if (ec) return make_unexpected("cannot create " + dir.string() + ": " + ec.message());
+  struct RemoveDir {
+    std::filesystem::path dir;
+    ~RemoveDir() {
+      std::error_code ignored;
+      std::filesystem::remove_all(dir, ignored);
+    }
+  } remove_dir{dir};
+  auto meshes = load_scene_meshes(scene);
+  if (!meshes) return make_unexpected(meshes.error());
+  for (size_t i = 0; i < meshes->size(); ++i) {
+    mjcf.mesh_files.push_back((dir / (scene.meshes[i].name + ".obj")).string());
+    if (auto written =
+            write_textured_obj((*meshes)[i], texture_period_m(scene), mjcf.mesh_files.back());
+        !written)
+      return make_unexpected(written.error());
+  }
+  sim->mjcf_ = build_mjcf(scene, sim->robots_, mjcf);
+  const auto file = dir / "scene.xml";
   {
     std::ofstream out(file);
     out << sim->mjcf_;
   }
   char error[1000] = "";
   mjModel* model = mj_loadXML(file.c_str(), nullptr, error, sizeof(error));
-  std::filesystem::remove(file);
   if (model == nullptr)
     return make_unexpected("MuJoCo cannot load the scene '" + scene.name + "': " + error);
 
@@ -287,6 +307,22 @@ msg::Pose3 TeamSim::camera_pose(size_t robot) const {
   return pose;
 }
 
+msg::Pose3 TeamSim::camera_mount(size_t robot) const {
+  // inverse(T_world_body) * T_world_cam; bodies only turn about z
+  const msg::Pose3 body = body_pose(robot), cam = camera_pose(robot);
+  mjtNum qinv[4], q[4], d[3], rotated[3];
+  const mjtNum qb[4] = {body.orientation.w, body.orientation.x, body.orientation.y,
+                        body.orientation.z};
+  const mjtNum qc[4] = {cam.orientation.w, cam.orientation.x, cam.orientation.y, cam.orientation.z};
+  mju_negQuat(qinv, qb);
+  mju_mulQuat(q, qinv, qc);
+  d[0] = cam.position.x - body.position.x;
+  d[1] = cam.position.y - body.position.y;
+  d[2] = cam.position.z - body.position.z;
+  mju_rotVecQuat(rotated, d, qinv);
+  return {{rotated[0], rotated[1], rotated[2]}, {q[0], q[1], q[2], q[3]}};
+}
+
 Result<void, std::string> TeamSim::render_stereo(size_t robot, msg::StereoFrame* stereo,
                                                  msg::DepthImage* depth_gt) {
   if (!impl_->rendering) return make_unexpected(std::string("rendering is off for this simulator"));
@@ -300,7 +336,10 @@ Result<void, std::string> TeamSim::render_stereo(size_t robot, msg::StereoFrame*
   camera.type = mjCAMERA_FIXED;
   camera.fixedcamid = ids.cam_left;
   impl_->render_camera(camera, w, h);
-  if (stereo != nullptr) impl_->to_gray(w, h, stereo->left);
+  if (stereo != nullptr) {
+    impl_->to_gray(w, h, stereo->left);
+    stereo->T_body_cam = camera_mount(robot);
+  }
   if (depth_gt != nullptr) {
     impl_->to_depth(w, h, depth_gt->depth_m);
     depth_gt->intrinsics = intrinsics;

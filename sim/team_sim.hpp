@@ -66,6 +66,8 @@ class TeamSim {
   // T_world_cam of the left camera, optical frame: z forward, x right, y down.
   msg::Pose3 camera_pose(size_t robot) const;
   msg::Vec3 body_velocity(size_t robot) const;  // world frame, m/s
+  // T_body_cam of the left camera's optical frame: the rig's extrinsics.
+  msg::Pose3 camera_mount(size_t robot) const;
 
   // Renders the robot's rectified stereo pair (grayscale) and, if depth_gt is given, the
   // left camera's ground-truth depth (m along the optical axis; NaN where nothing is

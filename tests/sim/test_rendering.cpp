@@ -33,6 +33,16 @@ TEST(Rendering, DepthMatchesTheAnalyticDistanceToAWallWithin1mm) {
   // the pose comes with it: optical axis along world +x at the camera's position
   EXPECT_NEAR(depth.T_world_cam.position.x, 0.25, 1e-9);
   EXPECT_NEAR(depth.T_world_cam.position.z, 0.35, 1e-9);
+  // the rig's extrinsics: optical z along body x, x along body -y, y along body -z
+  EXPECT_NEAR(stereo.T_body_cam.position.x, 0.25, 1e-9);
+  EXPECT_NEAR(stereo.T_body_cam.position.y, 0.0, 1e-9);
+  EXPECT_NEAR(stereo.T_body_cam.position.z, 0.35, 1e-9);
+  const msg::Quat& q = stereo.T_body_cam.orientation;
+  const double sign = q.w < 0 ? -1 : 1;
+  EXPECT_NEAR(sign * q.w, 0.5, 1e-9);
+  EXPECT_NEAR(sign * q.x, -0.5, 1e-9);
+  EXPECT_NEAR(sign * q.y, 0.5, 1e-9);
+  EXPECT_NEAR(sign * q.z, -0.5, 1e-9);
 }
 
 TEST(Rendering, NoisyDepthWithNoiseOffEqualsGroundTruthInsideTheRange) {

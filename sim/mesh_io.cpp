@@ -1,0 +1,152 @@
+#include "sim/mesh_io.hpp"
+
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+namespace scancrew::sim {
+
+namespace {
+
+msg::Vec3 sub(const msg::Vec3& a, const msg::Vec3& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+msg::Vec3 cross(const msg::Vec3& a, const msg::Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+double norm(const msg::Vec3& a) {
+  return std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
+}
+
+}  // namespace
+
+msg::Vec3 TriangleMesh::min() const {
+  if (vertices.empty()) return {};
+  msg::Vec3 m = vertices.front();
+  for (const auto& v : vertices) m = {std::min(m.x, v.x), std::min(m.y, v.y), std::min(m.z, v.z)};
+  return m;
+}
+
+msg::Vec3 TriangleMesh::max() const {
+  if (vertices.empty()) return {};
+  msg::Vec3 m = vertices.front();
+  for (const auto& v : vertices) m = {std::max(m.x, v.x), std::max(m.y, v.y), std::max(m.z, v.z)};
+  return m;
+}
+
+double TriangleMesh::area() const {
+  double a = 0;
+  for (const auto& t : triangles)
+    a +=
+        0.5 * norm(cross(sub(vertices[t[1]], vertices[t[0]]), sub(vertices[t[2]], vertices[t[0]])));
+  return a;
+}
+
+bool mesh_format_supported(const std::string& extension) {
+  return !extension.empty() && Assimp::Importer().IsExtensionSupported(extension);
+}
+
+Result<TriangleMesh, std::string> load_mesh(const std::string& path) {
+  if (!std::filesystem::exists(path))
+    return make_unexpected("mesh file '" + path + "' does not exist");
+  Assimp::Importer importer;
+  // scenes are z-up like the COLLADA models we ship; keep the file's axes
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  // lines and points (SketchUp exports edges) are dropped, not turned into degenerate triangles
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_LINE | aiPrimitiveType_POINT);
+  const aiScene* scene =
+      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices |
+                                  aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
+                                  aiProcess_FindDegenerates);
+  if (scene == nullptr)
+    return make_unexpected("mesh file '" + path + "': " + importer.GetErrorString());
+  TriangleMesh mesh;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* in = scene->mMeshes[m];
+    const auto base = static_cast<uint32_t>(mesh.vertices.size());
+    for (unsigned v = 0; v < in->mNumVertices; ++v)
+      mesh.vertices.push_back({in->mVertices[v].x, in->mVertices[v].y, in->mVertices[v].z});
+    for (unsigned f = 0; f < in->mNumFaces; ++f) {
+      const aiFace& face = in->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      mesh.triangles.push_back(
+          {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+    }
+  }
+  if (mesh.triangles.empty()) return make_unexpected("mesh file '" + path + "' holds no triangles");
+  const msg::Vec3 lo = mesh.min(), hi = mesh.max();
+  if (!(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z))
+    return make_unexpected("mesh file '" + path + "' is flat or degenerate (empty bounding box)");
+  return mesh;
+}
+
+TriangleMesh place_mesh(const TriangleMesh& mesh, const MeshSpec& spec) {
+  const msg::Vec3 lo = mesh.min(), hi = mesh.max();
+  const double scale = std::min(
+      {spec.fit_m.x / (hi.x - lo.x), spec.fit_m.y / (hi.y - lo.y), spec.fit_m.z / (hi.z - lo.z)});
+  const double cx = 0.5 * (lo.x + hi.x), cy = 0.5 * (lo.y + hi.y);
+  TriangleMesh out;
+  out.triangles = mesh.triangles;
+  out.vertices.reserve(mesh.vertices.size());
+  for (const auto& v : mesh.vertices)
+    out.vertices.push_back({spec.center_m.x + scale * (v.x - cx),
+                            spec.center_m.y + scale * (v.y - cy),
+                            spec.center_m.z + scale * (v.z - lo.z)});
+  return out;
+}
+
+Result<std::vector<TriangleMesh>, std::string> load_scene_meshes(const SceneSpec& scene) {
+  std::vector<TriangleMesh> meshes;
+  for (const MeshSpec& spec : scene.meshes) {
+    auto mesh = load_mesh(spec.file);
+    if (!mesh) return make_unexpected("mesh '" + spec.name + "': " + mesh.error());
+    meshes.push_back(place_mesh(*mesh, spec));
+  }
+  return meshes;
+}
+
+Result<void, std::string> write_textured_obj(const TriangleMesh& mesh, double texture_period_m,
+                                             const std::string& path) {
+  std::ofstream out(path);
+  if (!out) return make_unexpected("cannot write '" + path + "'");
+  out.precision(9);
+  out << "# written by scancrew (sim/mesh_io.cpp): box-projected texture coordinates\n";
+  // one vertex and one texture coordinate per triangle corner (flat shading, and MuJoCo
+  // 2.2 wants vertex and texture coordinate indices to agree); each triangle is projected
+  // on the axis plane most facing it
+  for (const auto& t : mesh.triangles) {
+    const msg::Vec3& a = mesh.vertices[t[0]];
+    const msg::Vec3 n = cross(sub(mesh.vertices[t[1]], a), sub(mesh.vertices[t[2]], a));
+    const double ax = std::abs(n.x), ay = std::abs(n.y), az = std::abs(n.z);
+    for (const uint32_t i : t) {
+      const msg::Vec3& v = mesh.vertices[i];
+      double u = v.y, w = v.z;  // facing x
+      if (az >= ax && az >= ay) {
+        u = v.x, w = v.y;
+      } else if (ay >= ax) {
+        u = v.x, w = v.z;
+      }
+      out << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n'
+          << "vt " << u / texture_period_m << ' ' << w / texture_period_m << '\n';
+    }
+  }
+  for (size_t k = 0; k < mesh.triangles.size(); ++k) {
+    out << "f";
+    for (size_t c = 1; c <= 3; ++c) out << ' ' << 3 * k + c << '/' << 3 * k + c;
+    out << '\n';
+  }
+  out.close();
+  if (!out) return make_unexpected("cannot write '" + path + "' (disk full?)");
+  return {};
+}
+
+}  // namespace scancrew::sim

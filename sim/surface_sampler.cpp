@@ -1,0 +1,348 @@
+#include "sim/surface_sampler.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+namespace scancrew::sim {
+
+namespace {
+
+using msg::Vec3;
+
+Vec3 operator+(const Vec3& a, const Vec3& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+Vec3 operator-(const Vec3& a, const Vec3& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+Vec3 operator*(double s, const Vec3& a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+double norm(const Vec3& a) {
+  return std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
+}
+
+constexpr double kBig = 1e30;  // "unbounded" in an axis-aligned bounding box
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+struct Aabb {
+  Vec3 lo{kBig, kBig, kBig}, hi{-kBig, -kBig, -kBig};
+  void add(const Vec3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  bool overlaps(const Aabb& o, double tol) const {
+    return lo.x <= o.hi.x + tol && o.lo.x <= hi.x + tol && lo.y <= o.hi.y + tol &&
+           o.lo.y <= hi.y + tol && lo.z <= o.hi.z + tol && o.lo.z <= hi.z + tol;
+  }
+};
+
+// A solid that hides what is inside it: a box turned by yaw about z, an upright cylinder,
+// or the half-space under the floor.
+struct Solid {
+  enum class Kind { kBox, kCylinder, kBelowFloor } kind = Kind::kBox;
+  Vec3 center, half;  // box: half extents; cylinder: half.x radius, half.z half height
+  double cos_yaw = 1, sin_yaw = 0;
+  Aabb box;
+
+  bool contains(const Vec3& p, double eps) const {
+    const Vec3 d = p - center;
+    switch (kind) {
+      case Kind::kBox: {
+        const double lx = d.x * cos_yaw + d.y * sin_yaw, ly = -d.x * sin_yaw + d.y * cos_yaw;
+        return std::abs(lx) < half.x + eps && std::abs(ly) < half.y + eps &&
+               std::abs(d.z) < half.z + eps;
+      }
+      case Kind::kCylinder: {
+        const double r = half.x + eps;
+        return std::abs(d.z) < half.z + eps && d.x * d.x + d.y * d.y < r * r;
+      }
+      case Kind::kBelowFloor:
+        return p.z < eps;
+    }
+    return false;
+  }
+};
+
+Solid make_box(const Vec3& center, const Vec3& half, double yaw) {
+  Solid s{.kind = Solid::Kind::kBox,
+          .center = center,
+          .half = half,
+          .cos_yaw = std::cos(yaw),
+          .sin_yaw = std::sin(yaw)};
+  for (int i = 0; i < 8; ++i) {
+    const double lx = (i & 1) != 0 ? half.x : -half.x, ly = (i & 2) != 0 ? half.y : -half.y,
+                 lz = (i & 4) != 0 ? half.z : -half.z;
+    s.box.add({center.x + lx * s.cos_yaw - ly * s.sin_yaw,
+               center.y + lx * s.sin_yaw + ly * s.cos_yaw, center.z + lz});
+  }
+  return s;
+}
+
+// A surface sampled as one: a parallelogram, a horizontal disk, a cylinder's side, or a
+// whole mesh (one draw of the count per triangle).
+struct Surface {
+  enum class Kind { kRect, kDisk, kCylinderSide, kMesh } kind = Kind::kRect;
+  int owner = -1;                 // index of the solid it bounds (not tested against it); -1: none
+  Vec3 origin, u, v, normal;      // rect: origin + s u + t v; disk/side: origin is the centre
+  double radius = 0, height = 0;  // disk, side (side: origin is the bottom centre)
+  const TriangleMesh* mesh = nullptr;
+  double area = 0;
+  Aabb box;
+};
+
+Surface make_rect(const Vec3& origin, const Vec3& u, const Vec3& v, const Vec3& normal, int owner) {
+  Surface s{.kind = Surface::Kind::kRect,
+            .owner = owner,
+            .origin = origin,
+            .u = u,
+            .v = v,
+            .normal = normal,
+            .area = norm(cross(u, v))};
+  for (const Vec3& p : {origin, origin + u, origin + v, origin + u + v}) s.box.add(p);
+  return s;
+}
+
+Surface make_disk(const Vec3& center, double radius, double nz, int owner) {
+  Surface s{.kind = Surface::Kind::kDisk,
+            .owner = owner,
+            .origin = center,
+            .normal = {0, 0, nz},
+            .radius = radius,
+            .area = std::numbers::pi * radius * radius};
+  s.box.add(center - Vec3{radius, radius, 0});
+  s.box.add(center + Vec3{radius, radius, 0});
+  return s;
+}
+
+double mesh_triangle_area(const TriangleMesh& m, const std::array<uint32_t, 3>& t) {
+  return 0.5 *
+         norm(cross(m.vertices[t[1]] - m.vertices[t[0]], m.vertices[t[2]] - m.vertices[t[0]]));
+}
+
+struct World {
+  std::vector<Solid> solids;
+  std::vector<Surface> surfaces;
+};
+
+void add_cylinder(const CylinderSpec& c, World* w) {
+  const int id = static_cast<int>(w->solids.size());
+  const double hh = 0.5 * c.height_m, r = c.radius_m;
+  Solid s{.kind = Solid::Kind::kCylinder, .center = c.center_m, .half = {r, r, hh}};
+  s.box.add(c.center_m - Vec3{r, r, hh});
+  s.box.add(c.center_m + Vec3{r, r, hh});
+  w->solids.push_back(s);
+  Surface side{.kind = Surface::Kind::kCylinderSide,
+               .owner = id,
+               .origin = c.center_m - Vec3{0, 0, hh},
+               .radius = r,
+               .height = c.height_m,
+               .area = kTwoPi * r * c.height_m,
+               .box = s.box};
+  w->surfaces.push_back(side);
+  w->surfaces.push_back(make_disk(c.center_m + Vec3{0, 0, hh}, r, 1, id));
+  w->surfaces.push_back(make_disk(c.center_m - Vec3{0, 0, hh}, r, -1, id));
+}
+
+void add_box(const BoxSpec& b, World* w) {
+  const int id = static_cast<int>(w->solids.size());
+  const Solid s = make_box(b.center_m, 0.5 * b.size_m, b.yaw_rad);
+  w->solids.push_back(s);
+  const Vec3 axes[3] = {{s.cos_yaw, s.sin_yaw, 0}, {-s.sin_yaw, s.cos_yaw, 0}, {0, 0, 1}};
+  const double half[3] = {s.half.x, s.half.y, s.half.z};
+  for (int a = 0; a < 3; ++a) {
+    const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
+    for (const double sign : {-1.0, 1.0}) {
+      const Vec3 n = sign * axes[a];
+      const Vec3 corner = b.center_m + half[a] * n - half[b1] * axes[b1] - half[b2] * axes[b2];
+      w->surfaces.push_back(
+          make_rect(corner, 2 * half[b1] * axes[b1], 2 * half[b2] * axes[b2], n, id));
+    }
+  }
+}
+
+// Floor, ceiling and walls as build_mjcf() places them; their surfaces facing the bounds.
+void add_room(const SceneSpec& sc, World* w) {
+  const Vec3 lo = sc.min_m, hi = sc.max_m;
+  const double sx = hi.x - lo.x, sy = hi.y - lo.y, cx = 0.5 * (lo.x + hi.x),
+               cy = 0.5 * (lo.y + hi.y);
+  Solid floor{.kind = Solid::Kind::kBelowFloor};
+  floor.box.add({-kBig, -kBig, -kBig});
+  floor.box.add({kBig, kBig, 0});
+  w->solids.push_back(floor);
+  w->surfaces.push_back(make_rect({lo.x, lo.y, 0}, {sx, 0, 0}, {0, sy, 0}, {0, 0, 1}, 0));
+  if (sc.ceiling) {
+    const int id = static_cast<int>(w->solids.size());
+    w->solids.push_back(make_box({cx, cy, hi.z + 0.05}, {0.5 * sx + 0.2, 0.5 * sy + 0.2, 0.05}, 0));
+    w->surfaces.push_back(make_rect({lo.x, lo.y, hi.z}, {0, sy, 0}, {sx, 0, 0}, {0, 0, -1}, id));
+  }
+  if (sc.wall_height_m <= 0) return;
+  const double t = sc.wall_thickness_m, h = sc.wall_height_m;
+  const double top = std::min(h, hi.z);  // above the bounds nothing is kept anyway
+  struct Wall {
+    Vec3 center, half, face_origin, face_u, normal;
+  };
+  const Wall walls[] = {
+      {{cx, hi.y + 0.5 * t, 0},
+       {0.5 * sx + t, 0.5 * t, 0},
+       {lo.x, hi.y, 0},
+       {sx, 0, 0},
+       {0, -1, 0}},
+      {{cx, lo.y - 0.5 * t, 0}, {0.5 * sx + t, 0.5 * t, 0}, {lo.x, lo.y, 0}, {sx, 0, 0}, {0, 1, 0}},
+      {{hi.x + 0.5 * t, cy, 0}, {0.5 * t, 0.5 * sy, 0}, {hi.x, lo.y, 0}, {0, sy, 0}, {-1, 0, 0}},
+      {{lo.x - 0.5 * t, cy, 0}, {0.5 * t, 0.5 * sy, 0}, {lo.x, lo.y, 0}, {0, sy, 0}, {1, 0, 0}},
+  };
+  for (const Wall& wall : walls) {
+    const int id = static_cast<int>(w->solids.size());
+    w->solids.push_back(
+        make_box(wall.center + Vec3{0, 0, 0.5 * h}, wall.half + Vec3{0, 0, 0.5 * h}, 0));
+    if (top > 0)
+      w->surfaces.push_back(make_rect(wall.face_origin, wall.face_u, {0, 0, top}, wall.normal, id));
+  }
+}
+
+// Uniform doubles in [0, 1) from the 53 high bits: the same on every standard library.
+class Uniform {
+ public:
+  explicit Uniform(uint64_t seed) : rng_(seed) {}
+  double operator()() { return static_cast<double>(rng_() >> 11) * 0x1.0p-53; }
+
+ private:
+  std::mt19937_64 rng_;
+};
+
+uint64_t draw_count(double area, double density, Uniform& u) {
+  return static_cast<uint64_t>(std::floor(area * density + u()));
+}
+
+class Sampler {
+ public:
+  Sampler(const SceneSpec& scene, const World& world, const SamplingOptions& o)
+      : world_(world), density_(o.density_per_m2), u_(o.seed) {
+    const double e = kHiddenTolerance;
+    lo_ = scene.min_m - Vec3{e, e, e};
+    hi_ = scene.max_m + Vec3{e, e, e};
+  }
+
+  void sample(const Surface& s, SurfaceSamples* out) {
+    candidates_.clear();
+    for (size_t i = 0; i < world_.solids.size(); ++i)
+      if (static_cast<int>(i) != s.owner && world_.solids[i].box.overlaps(s.box, kHiddenTolerance))
+        candidates_.push_back(&world_.solids[i]);
+    sampled_ = kept_ = 0;
+    out_ = out;
+    switch (s.kind) {
+      case Surface::Kind::kRect:
+        for (uint64_t n = draw_count(s.area, density_, u_); n > 0; --n) {
+          const double a = u_(), b = u_();
+          offer(s.origin + a * s.u + b * s.v, s.normal);
+        }
+        break;
+      case Surface::Kind::kDisk:
+        for (uint64_t n = draw_count(s.area, density_, u_); n > 0; --n) {
+          const double r = s.radius * std::sqrt(u_()), th = kTwoPi * u_();
+          offer(s.origin + Vec3{r * std::cos(th), r * std::sin(th), 0}, s.normal);
+        }
+        break;
+      case Surface::Kind::kCylinderSide:
+        for (uint64_t n = draw_count(s.area, density_, u_); n > 0; --n) {
+          const double th = kTwoPi * u_(), z = s.height * u_();
+          const Vec3 radial{std::cos(th), std::sin(th), 0};
+          offer(s.origin + s.radius * radial + Vec3{0, 0, z}, radial);
+        }
+        break;
+      case Surface::Kind::kMesh:
+        for (const auto& t : s.mesh->triangles) {
+          const Vec3 &p0 = s.mesh->vertices[t[0]], &p1 = s.mesh->vertices[t[1]],
+                     &p2 = s.mesh->vertices[t[2]];
+          const Vec3 c = cross(p1 - p0, p2 - p0);
+          const double twice_area = norm(c);
+          if (!(twice_area > 0)) continue;  // degenerate: no area, no normal
+          const Vec3 n = (1.0 / twice_area) * c;
+          for (uint64_t k = draw_count(0.5 * twice_area, density_, u_); k > 0; --k) {
+            const double r1 = std::sqrt(u_()), b = u_();
+            offer((1 - r1) * p0 + (r1 * (1 - b)) * p1 + (r1 * b) * p2, n);
+          }
+        }
+        break;
+    }
+    if (sampled_ > 0)
+      out->area_m2 += s.area * static_cast<double>(kept_) / static_cast<double>(sampled_);
+  }
+
+ private:
+  void offer(const Vec3& p, const Vec3& n) {
+    ++sampled_;
+    if (p.x < lo_.x || p.y < lo_.y || p.z < lo_.z || p.x > hi_.x || p.y > hi_.y || p.z > hi_.z)
+      return;
+    for (const Solid* solid : candidates_)
+      if (solid->contains(p, kHiddenTolerance)) return;
+    ++kept_;
+    out_->points.push_back(
+        {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
+    out_->normals.push_back(
+        {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)});
+  }
+
+  const World& world_;
+  double density_;
+  Uniform u_;
+  Vec3 lo_, hi_;
+  std::vector<const Solid*> candidates_;
+  uint64_t sampled_ = 0, kept_ = 0;
+  SurfaceSamples* out_ = nullptr;
+};
+
+}  // namespace
+
+Result<SurfaceSamples, std::string> sample_surfaces(const SceneSpec& scene,
+                                                    const std::vector<TriangleMesh>& placed_meshes,
+                                                    const SamplingOptions& options) {
+  const double d = options.density_per_m2;
+  if (!(d > 0) || !std::isfinite(d)) {
+    std::ostringstream msg;
+    msg << "surface sampling: the density must be a positive number of points per m2, not " << d;
+    return make_unexpected(msg.str());
+  }
+  World world;
+  add_room(scene, &world);
+  for (const BoxSpec& b : scene.boxes) add_box(b, &world);
+  for (const CylinderSpec& c : scene.cylinders) add_cylinder(c, &world);
+  for (const TriangleMesh& m : placed_meshes) {
+    Surface s{.kind = Surface::Kind::kMesh, .mesh = &m};
+    for (const auto& t : m.triangles) s.area += mesh_triangle_area(m, t);
+    for (const Vec3& v : m.vertices) s.box.add(v);
+    world.surfaces.push_back(s);
+  }
+
+  double total_area = 0;
+  for (const Surface& s : world.surfaces) total_area += s.area;
+  const double expected = total_area * d;
+  if (expected > static_cast<double>(options.max_points)) {
+    char msg[320];
+    std::snprintf(msg, sizeof msg,
+                  "surface sampling: %.0f points/m2 over %.1f m2 of surfaces would make %.3g "
+                  "points, more than the limit of %zu; use a density of at most %.0f points/m2 "
+                  "(or raise the limit)",
+                  d, total_area, expected, options.max_points,
+                  std::floor(static_cast<double>(options.max_points) / total_area));
+    return make_unexpected(std::string(msg));
+  }
+
+  SurfaceSamples out;
+  const auto reserve = static_cast<size_t>(expected) + world.surfaces.size();
+  out.points.reserve(reserve);
+  out.normals.reserve(reserve);
+  Sampler sampler(scene, world, options);
+  for (const Surface& s : world.surfaces) sampler.sample(s, &out);
+  return out;
+}
+
+}  // namespace scancrew::sim
