@@ -235,6 +235,26 @@ void ParamReader::optional_list(std::string_view key, std::vector<double>& value
   value = std::move(parsed);
 }
 
+void ParamReader::optional_list(std::string_view key, std::vector<std::string>& value) {
+  asked_.emplace_back(key);
+  const YAML::Node& node = impl_->node;
+  const YAML::Node item = node.IsMap() ? node[std::string(key)] : YAML::Node();
+  if (!item.IsDefined() || item.IsNull()) return;
+  if (!item.IsSequence()) {
+    error(key, "wrong shape; allowed: a list of strings");
+    return;
+  }
+  std::vector<std::string> parsed;
+  for (const auto& element : item) {
+    if (!element.IsScalar()) {
+      error(key, "an element is not a string; allowed: a list of strings");
+      return;
+    }
+    parsed.push_back(element.Scalar());
+  }
+  value = std::move(parsed);
+}
+
 void ParamReader::finish() {
   const YAML::Node& node = impl_->node;
   if (!node.IsMap()) return;

@@ -43,6 +43,8 @@ class ParamReader {
   // A list of numbers; `size` 0 means any length.
   void optional_list(std::string_view key, std::vector<double>& value, size_t size = 0,
                      Range range = {});
+  // A list of strings (topic names, file names).
+  void optional_list(std::string_view key, std::vector<std::string>& value);
 
   // Reports keys that no read asked for (typos). Call after the last read.
   void finish();

@@ -45,7 +45,23 @@ class Publisher {
     return topic_->publish(std::move(loan));
   }
 
+  // Publishes keeping the robot id, sequence number and stamp the loan carries: for replay
+  // and for links that pass on another robot's messages. Sets publish_mono_ns only.
+  Result<size_t, PublishError> forward(Loan<T>&& loan) {
+    SCANCREW_CHECK(valid(), "forward() on a publisher that was never created");
+    if (!loan.valid()) return make_unexpected(PublishError::kInvalidLoan);
+    if (active_ != nullptr && !active_->load(std::memory_order_acquire)) {
+      Loan<T> dropped = std::move(loan);
+      return make_unexpected(PublishError::kInactive);
+    }
+    loan->header.publish_mono_ns = monotonic_now_ns();
+    return topic_->publish(std::move(loan));
+  }
+
   const std::string& topic_name() const { return topic_->name(); }
+  // The robot id publish() stamps: the component's by default; a component that publishes
+  // on behalf of robots (the simulator, a bridge) sets theirs.
+  void set_robot_id(uint32_t robot_id) { robot_id_ = robot_id; }
   Topic<T>& topic() { return *topic_; }
 
  private:

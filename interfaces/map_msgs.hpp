@@ -8,6 +8,7 @@
 
 #include "interfaces/geometry.hpp"
 #include "interfaces/header.hpp"
+#include "interfaces/nav_msgs.hpp"  // Waypoint
 
 namespace scancrew::msg {
 

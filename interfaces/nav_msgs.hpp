@@ -17,7 +17,8 @@ struct Odometry {
   Vec3 linear_velocity_mps;
   Vec3 angular_velocity_radps;
   Mat6 pose_covariance{};
-  double tracking_quality = 0;  // 0 (lost) .. 1 (all tracks inliers)
+  double tracking_quality = 0;   // 0 (lost) .. 1 (all tracks inliers)
+  uint32_t tracking_resets = 0;  // re-initialisations after lost tracking, so far
 };
 
 // A pose along a path for the tracker: x, y, z, yaw (ground robots keep z constant).

@@ -6,7 +6,7 @@ kind="${1:?usage: sanitize.sh asan|tsan}"
 cd "$(dirname "$0")/.."
 cmake --preset "$kind" >/dev/null
 # only the test binaries: the sanitizer runs cover the "sanitize"-labelled suites
-cmake --build --preset "$kind" --target test_executors test_no_allocation
+cmake --build --preset "$kind" --target test_executors test_no_allocation test_interfaces
 if [ "$kind" = tsan ]; then
   # TSan of g++ 12 cannot map its shadow memory with the 32-bit mmap randomisation of
   # newer kernels ("unexpected memory mapping"); run without address randomisation.

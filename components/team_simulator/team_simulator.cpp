@@ -110,6 +110,13 @@ Result<void, std::string> TeamSimulator::on_configure() {
       p.depth_gt = create_publisher<msg::DepthImage>(ns + "depth_gt", {.pool_size = 4});
     p.imu = create_publisher<msg::Imu>(ns + "imu", {.pool_size = 16});
     p.pose_gt = create_publisher<msg::Odometry>(ns + "pose_gt", {.pool_size = 8});
+    // the simulator publishes on behalf of each robot: its messages carry the robot's id
+    const uint32_t id = sim_->robot(i).id;
+    if (p.stereo.valid()) p.stereo.set_robot_id(id);
+    for (auto* pub : {&p.depth, &p.depth_gt})
+      if (pub->valid()) pub->set_robot_id(id);
+    p.imu.set_robot_id(id);
+    p.pose_gt.set_robot_id(id);
     create_subscription<msg::VelocityCommand>(
         ns + "cmd_vel", {.depth = 1},
         [this, i](Sample<msg::VelocityCommand>&& c) { sim_->set_velocity(i, *c); });

@@ -1,0 +1,230 @@
+#include "components/recorder/log_file.hpp"
+
+#include <cerrno>
+#include <cstring>
+
+#include "interfaces/message_fields.hpp"
+
+namespace scancrew::recorder {
+
+namespace {
+
+constexpr uint8_t kTopicRecord = 1;
+constexpr uint8_t kMessageRecord = 2;
+constexpr size_t kRecordHeader = 1 + sizeof(uint32_t);
+// a record longer than this is corruption, not data (the largest message is a few MB)
+constexpr uint32_t kMaxRecordBytes = 1u << 30;
+
+template <class T>
+void put(std::vector<uint8_t>& out, T v) {
+  const size_t at = out.size();
+  out.resize(at + sizeof(T));
+  std::memcpy(out.data() + at, &v, sizeof(T));
+}
+
+template <class T>
+bool get(std::span<const uint8_t> in, size_t& at, T& v) {
+  if (in.size() - at < sizeof(T)) return false;
+  std::memcpy(&v, in.data() + at, sizeof(T));
+  at += sizeof(T);
+  return true;
+}
+
+bool get_string(std::span<const uint8_t> in, size_t& at, std::string& s) {
+  uint16_t n = 0;
+  if (!get(in, at, n) || in.size() - at < n) return false;
+  s.assign(reinterpret_cast<const char*>(in.data() + at),
+           n);  // NOLINT(*-reinterpret-cast): bytes as chars
+  at += n;
+  return true;
+}
+
+std::string errno_text() {
+  return std::strerror(
+      errno);  // NOLINT(concurrency-mt-unsafe): called right after the failing call
+}
+
+}  // namespace
+
+void LogWriter::FileCloser::operator()(std::FILE* f) const {
+  std::fclose(f);  // NOLINT(cert-err33-c): nothing to do about a close error here; flush() reports
+}
+void LogReader::FileCloser::operator()(std::FILE* f) const {
+  std::fclose(f);  // NOLINT(cert-err33-c): read-only file
+}
+
+LogWriter::LogWriter(std::unique_ptr<std::FILE, FileCloser> file, std::string path)
+    : file_(std::move(file)), path_(std::move(path)) {}
+
+LogWriter::~LogWriter() {
+  if (file_) (void)flush();
+}
+
+Result<LogWriter, std::string> LogWriter::open(const std::string& path) {
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
+  if (!file) return make_unexpected("cannot create the recording '" + path + "': " + errno_text());
+  LogWriter w(std::move(file), path);
+  std::vector<uint8_t> header(std::begin(kLogMagic), std::end(kLogMagic));
+  put(header, msg::kMessageFormatVersion);
+  if (std::fwrite(header.data(), 1, header.size(), w.file_.get()) != header.size())
+    return make_unexpected("cannot write the recording '" + path + "': " + errno_text());
+  w.bytes_ = header.size();
+  return w;
+}
+
+uint16_t LogWriter::add_topic(const LogTopic& topic) {
+  const auto index = static_cast<uint16_t>(topics_.size());
+  topics_.push_back(topic);
+  std::vector<uint8_t> payload;
+  put(payload, index);
+  for (const std::string* s : {&topic.name, &topic.type}) {
+    put(payload, static_cast<uint16_t>(s->size()));
+    payload.insert(payload.end(), s->begin(), s->end());
+  }
+  (void)record(kTopicRecord, payload);  // an error shows again at the first message
+  return index;
+}
+
+Result<void, std::string> LogWriter::write(uint16_t topic, int64_t receive_ns,
+                                           std::span<const uint8_t> message) {
+  scratch_.clear();
+  put(scratch_, topic);
+  put(scratch_, receive_ns);
+  scratch_.insert(scratch_.end(), message.begin(), message.end());
+  if (auto r = record(kMessageRecord, scratch_); !r) return r;
+  ++messages_;
+  return {};
+}
+
+Result<void, std::string> LogWriter::record(uint8_t kind, std::span<const uint8_t> payload) {
+  std::vector<uint8_t> header;
+  header.push_back(kind);
+  put(header, static_cast<uint32_t>(payload.size()));
+  if (std::fwrite(header.data(), 1, header.size(), file_.get()) != header.size() ||
+      std::fwrite(payload.data(), 1, payload.size(), file_.get()) != payload.size())
+    return make_unexpected("cannot write the recording '" + path_ + "': " + errno_text());
+  bytes_ += header.size() + payload.size();
+  return {};
+}
+
+Result<void, std::string> LogWriter::flush() {
+  if (std::fflush(file_.get()) != 0)
+    return make_unexpected("cannot write the recording '" + path_ + "': " + errno_text());
+  return {};
+}
+
+LogReader::LogReader(std::unique_ptr<std::FILE, FileCloser> file, std::string path, uint64_t size)
+    : file_(std::move(file)), path_(std::move(path)), size_(size) {}
+
+Result<LogReader, std::string> LogReader::open(const std::string& path) {
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
+  if (!file) return make_unexpected("cannot open the recording '" + path + "': " + errno_text());
+  if (std::fseek(file.get(), 0, SEEK_END) != 0)
+    return make_unexpected("cannot read the recording '" + path + "': " + errno_text());
+  const long size = std::ftell(file.get());
+  std::rewind(file.get());
+  uint8_t header[kLogHeaderSize] = {};
+  if (size < static_cast<long>(kLogHeaderSize) ||
+      std::fread(header, 1, kLogHeaderSize, file.get()) != kLogHeaderSize ||
+      std::memcmp(header, kLogMagic, sizeof(kLogMagic)) != 0)
+    return make_unexpected("'" + path + "' is not a scancrew recording (.sclog)");
+  uint32_t version = 0;
+  std::memcpy(&version, header + sizeof(kLogMagic), sizeof version);
+  if (version != msg::kMessageFormatVersion)
+    return make_unexpected("'" + path + "' holds messages of format version " +
+                           std::to_string(version) + "; this build reads version " +
+                           std::to_string(msg::kMessageFormatVersion));
+  LogReader reader(std::move(file), path, static_cast<uint64_t>(size));
+  reader.offset_ = kLogHeaderSize;
+  return reader;
+}
+
+Result<std::optional<uint8_t>, std::string> LogReader::read_record(bool want_payload) {
+  if (offset_ == size_) return std::optional<uint8_t>{};
+  uint8_t header[kRecordHeader] = {};
+  if (size_ - offset_ < kRecordHeader ||
+      std::fread(header, 1, kRecordHeader, file_.get()) != kRecordHeader) {
+    truncated_ = true;
+    return std::optional<uint8_t>{};
+  }
+  uint32_t length = 0;
+  std::memcpy(&length, header + 1, sizeof length);
+  const uint8_t kind = header[0];
+  if ((kind != kTopicRecord && kind != kMessageRecord) || length > kMaxRecordBytes)
+    return make_unexpected("'" + path_ + "': corrupt record at byte " + std::to_string(offset_));
+  if (size_ - offset_ - kRecordHeader < length) {
+    truncated_ = true;
+    return std::optional<uint8_t>{};
+  }
+  if (want_payload || kind == kTopicRecord) {
+    buffer_.resize(length);
+    if (std::fread(buffer_.data(), 1, length, file_.get()) != length)
+      return make_unexpected("cannot read '" + path_ + "': " + errno_text());
+  } else if (std::fseek(file_.get(), length, SEEK_CUR) != 0) {
+    return make_unexpected("cannot read '" + path_ + "': " + errno_text());
+  }
+  offset_ += kRecordHeader + length;
+  return std::optional<uint8_t>{kind};
+}
+
+Result<void, std::string> LogReader::take_topic() {
+  size_t at = 0;
+  uint16_t index = 0;
+  LogTopic topic;
+  if (!get(std::span<const uint8_t>(buffer_), at, index) || !get_string(buffer_, at, topic.name) ||
+      !get_string(buffer_, at, topic.type) || at != buffer_.size())
+    return make_unexpected("'" + path_ + "': malformed topic record before byte " +
+                           std::to_string(offset_));
+  if (index < topics_.size()) {
+    if (topics_[index].name != topic.name || topics_[index].type != topic.type)
+      return make_unexpected("'" + path_ + "': topic " + std::to_string(index) +
+                             " is declared twice, differently");
+    return {};
+  }
+  if (index != topics_.size())
+    return make_unexpected("'" + path_ + "': topic " + std::to_string(index) +
+                           " declared out of order");
+  topics_.push_back(std::move(topic));
+  return {};
+}
+
+Result<std::optional<LogEntry>, std::string> LogReader::next() {
+  for (;;) {
+    auto kind = read_record(true);
+    if (!kind) return make_unexpected(kind.error());
+    if (!*kind) return std::optional<LogEntry>{};
+    if (**kind == kTopicRecord) {
+      if (auto t = take_topic(); !t) return make_unexpected(t.error());
+      continue;
+    }
+    LogEntry e;
+    size_t at = 0;
+    if (!get(std::span<const uint8_t>(buffer_), at, e.topic) ||
+        !get(std::span<const uint8_t>(buffer_), at, e.receive_ns) || e.topic >= topics_.size())
+      return make_unexpected("'" + path_ + "': malformed message record before byte " +
+                             std::to_string(offset_));
+    e.message = std::span<const uint8_t>(buffer_).subspan(at);
+    return std::optional<LogEntry>{e};
+  }
+}
+
+Result<void, std::string> LogReader::rewind() {
+  if (std::fseek(file_.get(), static_cast<long>(kLogHeaderSize), SEEK_SET) != 0)
+    return make_unexpected("cannot read '" + path_ + "': " + errno_text());
+  offset_ = kLogHeaderSize;
+  truncated_ = false;
+  return {};
+}
+
+Result<void, std::string> LogReader::scan_topics() {
+  for (;;) {
+    auto kind = read_record(false);
+    if (!kind) return make_unexpected(kind.error());
+    if (!*kind) break;
+    if (**kind == kTopicRecord)
+      if (auto t = take_topic(); !t) return make_unexpected(t.error());
+  }
+  return rewind();
+}
+
+}  // namespace scancrew::recorder

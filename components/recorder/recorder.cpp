@@ -1,0 +1,103 @@
+#include "components/recorder/recorder.hpp"
+
+#include <chrono>
+
+#include "executors/log.hpp"
+#include "executors/registry.hpp"
+#include "interfaces/codec.hpp"
+
+namespace scancrew::recorder {
+
+namespace {
+
+std::string wire_type_names() {
+  std::string all;
+  [&]<class... T>(msg::TypeList<T...>) {
+    ((all += (all.empty() ? "" : ", ") + std::string(T::kTypeName)), ...);
+  }(msg::WireMessages{});
+  return all;
+}
+
+}  // namespace
+
+Recorder::Config Recorder::read_config(ParamReader& p) {
+  Config c;
+  p.required("path", c.path);
+  p.optional_list("topics", c.topics);
+  if (c.topics.empty()) p.report("topics", "required: the list of topics to record");
+  p.optional("queue_depth", c.queue_depth, {1, 100000});
+  p.optional("flush_period_s", c.flush_period_s, {0.01, 3600});
+  return c;
+}
+
+Recorder::Recorder(ComponentContext context, Config config)
+    : Component(std::move(context)), config_(std::move(config)) {}
+
+uint64_t Recorder::messages_written() const {
+  std::lock_guard lock(mutex_);
+  return writer_ ? writer_->messages() : 0;
+}
+
+Result<void, std::string> Recorder::on_configure() {
+  auto writer = LogWriter::open(config_.path);
+  if (!writer) return make_unexpected(writer.error());
+  writer_.emplace(std::move(writer).value());
+  for (const std::string& spec : config_.topics)
+    if (auto added = add(spec); !added) return added;
+  create_timer(std::chrono::nanoseconds(static_cast<int64_t>(config_.flush_period_s * 1e9)),
+               [this] {
+                 std::lock_guard lock(mutex_);
+                 if (auto r = writer_->flush(); !r && write_errors_++ == 0)
+                   SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), r.error().c_str());
+               });
+  return {};
+}
+
+Result<void, std::string> Recorder::add(const std::string& spec) {
+  const size_t colon = spec.find(':');
+  const std::string port = spec.substr(0, colon);
+  std::string type = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  const std::string name = resolve(port);
+  if (type.empty()) {
+    auto topic = graph().find(name);
+    if (!topic)
+      return make_unexpected("topic '" + name +
+                             "' does not exist yet: list the recorder after the components "
+                             "that publish it, or give its type as '" +
+                             port + ":Type'");
+    type = topic->type_name();
+  }
+  const uint16_t index = writer_->add_topic({name, type});
+  const SubscriptionQos qos{.depth = config_.queue_depth};
+  const bool known = msg::with_wire_message(type, [&]<class T>() {
+    create_subscription<T>(port, qos, [this, index](Sample<T>&& sample) {
+      std::lock_guard lock(mutex_);
+      scratch_.clear();
+      msg::encode(*sample, scratch_);
+      write(index, scratch_);
+    });
+  });
+  if (!known)
+    return make_unexpected("topic '" + name + "': type '" + type +
+                           "' cannot be recorded; allowed: " + wire_type_names());
+  return {};
+}
+
+void Recorder::write(uint16_t topic, std::span<const uint8_t> bytes) {
+  if (auto r = writer_->write(topic, clock().now_ns(), bytes); !r && write_errors_++ == 0)
+    SCANCREW_LOG_ERROR("%s: %s (further errors are counted)", qualified_name().c_str(),
+                       r.error().c_str());
+}
+
+void Recorder::on_deactivate() {
+  std::lock_guard lock(mutex_);
+  if (auto r = writer_->flush(); !r) ++write_errors_;
+  SCANCREW_LOG_INFO("%s: %llu messages, %.1f MB in %s%s", qualified_name().c_str(),
+                    static_cast<unsigned long long>(writer_->messages()),
+                    static_cast<double>(writer_->bytes()) * 1e-6, config_.path.c_str(),
+                    write_errors_ ? " (WRITE ERRORS: the recording is incomplete)" : "");
+}
+
+SCANCREW_REGISTER_COMPONENT(Recorder, "recorder")
+
+}  // namespace scancrew::recorder

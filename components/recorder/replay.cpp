@@ -1,0 +1,121 @@
+#include "components/recorder/replay.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "executors/log.hpp"
+#include "executors/registry.hpp"
+#include "interfaces/codec.hpp"
+
+namespace scancrew::recorder {
+
+Replay::Config Replay::read_config(ParamReader& p) {
+  Config c;
+  p.required("path", c.path);
+  p.choice("timing", c.timing, {"relative", "absolute"});
+  p.optional("rate", c.rate, {1e-3, 1e3});
+  p.optional("tick_s", c.tick_s, {1e-5, 1});
+  p.optional_list("topics", c.topics);
+  return c;
+}
+
+Replay::Replay(ComponentContext context, Config config)
+    : Component(std::move(context)), config_(std::move(config)) {}
+
+Result<void, std::string> Replay::on_configure() {
+  auto reader = LogReader::open(config_.path);
+  if (!reader) return make_unexpected(reader.error());
+  reader_.emplace(std::move(reader).value());
+  if (auto scanned = reader_->scan_topics(); !scanned) return scanned;
+  for (const std::string& wanted : config_.topics) {
+    const auto& t = reader_->topics();
+    if (std::none_of(t.begin(), t.end(), [&](const LogTopic& lt) { return lt.name == wanted; }))
+      return make_unexpected("topic '" + wanted + "' is not in the recording '" + config_.path +
+                             "'");
+  }
+  for (const LogTopic& topic : reader_->topics()) {
+    const bool wanted =
+        config_.topics.empty() ||
+        std::find(config_.topics.begin(), config_.topics.end(), topic.name) != config_.topics.end();
+    if (!wanted) {
+      publish_.emplace_back();
+      continue;
+    }
+    const bool known = msg::with_wire_message(topic.type, [&]<class T>() {
+      // std::function needs a copyable target: the publisher is shared
+      publish_.emplace_back([this, pub = std::make_shared<Publisher<T>>(create_publisher<T>(
+                                       topic.name))](std::span<const uint8_t> bytes) {
+        auto loan = pub->loan();
+        if (!loan) return Outcome::kPoolExhausted;
+        if (auto decoded = msg::decode(bytes, **loan); !decoded) {
+          if (decode_errors_++ == 0)
+            SCANCREW_LOG_ERROR("%s: %s: %s (skipped; further errors are counted)",
+                               qualified_name().c_str(), pub->topic_name().c_str(),
+                               decoded.error().c_str());
+          return Outcome::kDropped;
+        }
+        (void)pub->forward(std::move(*loan));
+        return Outcome::kPublished;
+      });
+    });
+    if (!known)
+      return make_unexpected("recording '" + config_.path + "': topic '" + topic.name +
+                             "' has type '" + topic.type + "', which this build cannot replay");
+  }
+  create_timer(std::chrono::nanoseconds(std::llround(config_.tick_s * 1e9)), [this] { tick(); });
+  return {};
+}
+
+bool Replay::due(int64_t receive_ns, int64_t now_ns) {
+  if (config_.timing == "absolute") return now_ns >= receive_ns;
+  if (!start_ns_) {
+    start_ns_ = now_ns;
+    first_receive_ns_ = receive_ns;
+  }
+  const double offset = static_cast<double>(receive_ns - *first_receive_ns_) / config_.rate;
+  return static_cast<double>(now_ns - *start_ns_) >= offset;
+}
+
+void Replay::tick() {
+  const int64_t now = clock().now_ns();
+  while (!finished_) {
+    if (!pending_) {
+      auto next = reader_->next();
+      if (!next) {
+        SCANCREW_LOG_ERROR("%s: %s; replay stops", qualified_name().c_str(), next.error().c_str());
+        finished_ = true;
+        return;
+      }
+      if (!*next) {
+        finished_ = true;
+        SCANCREW_LOG_INFO(
+            "%s: replay of %s done: %llu messages%s", qualified_name().c_str(),
+            config_.path.c_str(), static_cast<unsigned long long>(published_),
+            reader_->truncated() ? " (the recording is cut short: played up to the cut)" : "");
+        return;
+      }
+      pending_ = *next;
+    }
+    if (!publish_[pending_->topic]) {  // filtered out
+      pending_.reset();
+      continue;
+    }
+    if (!due(pending_->receive_ns, now)) return;
+    switch (publish_[pending_->topic](pending_->message)) {
+      case Outcome::kPoolExhausted:
+        ++pool_waits_;
+        return;  // try again at the next tick: nothing is skipped
+      case Outcome::kPublished:
+        ++published_;
+        break;
+      case Outcome::kDropped:
+        break;
+    }
+    pending_.reset();
+  }
+}
+
+SCANCREW_REGISTER_COMPONENT(Replay, "replay")
+
+}  // namespace scancrew::recorder
