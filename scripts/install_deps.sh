@@ -17,7 +17,9 @@ PACKAGES=(
   iceoryx libiceoryx-posh-dev libiceoryx-hoofs-dev libacl1-dev
   # MuJoCo team simulator, headless rendering (EGL, Mesa llvmpipe), mesh import
   libmujoco-dev libqhull-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libopengl-dev
-  libassimp-dev
+  libassimp-dev libpng-dev
+  # perception, hardware backend (V4L2 cameras through OpenCV)
+  libopencv-dev libeigen3-dev
   # style checks run in CI
   clang-format clang-tidy
 )
