@@ -1,0 +1,149 @@
+#include "components/stereo/stereo_depth.hpp"
+
+#include <cmath>
+
+#include "components/stereo/stereo_matcher.hpp"
+#include "executors/log.hpp"
+#include "executors/registry.hpp"
+#include "interfaces/eigen_conversions.hpp"
+
+namespace scancrew::perception {
+
+StereoDepth::Config StereoDepth::read_config(ParamReader& p) {
+  Config c;
+  SgbmParams& s = c.sgbm;
+  p.optional("num_disparities", s.num_disparities, {0, 1024});
+  if (s.num_disparities % 16 != 0)
+    p.report("num_disparities", "must be a multiple of 16 (or 0: from the camera's min range)");
+  p.optional("block_size", s.block_size, {1, 11});
+  if (s.block_size % 2 == 0) p.report("block_size", "must be odd");
+  p.optional("p1", s.p1, {0, 100000});
+  p.optional("p2", s.p2, {0, 400000});
+  if (s.p1 != 0 && s.p2 != 0 && s.p2 <= s.p1) p.report("p2", "must be greater than p1");
+  p.optional("uniqueness_ratio", s.uniqueness_ratio, {0, 100});
+  p.optional("speckle_window_size", s.speckle_window_size, {0, 10000});
+  p.optional("speckle_range", s.speckle_range, {0, 64});
+  p.optional("disp12_max_diff", s.disp12_max_diff, {-1, 64});
+  p.optional("pre_filter_cap", s.pre_filter_cap, {1, 63});
+  p.choice("mode", s.mode, {"sgbm", "hh", "sgbm_3way"});
+  p.optional("min_range_m", c.min_range_m, {0.01, 100});
+  p.optional("max_range_m", c.max_range_m, {0.02, 1000});
+  if (c.max_range_m <= c.min_range_m) p.report("max_range_m", "must be greater than min_range_m");
+  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
+  p.optional("max_pending_frames", c.max_pending_frames, {1, 1000});
+  p.optional("pose_history", c.pose_history, {1, 100000});
+  return c;
+}
+
+StereoDepth::StereoDepth(ComponentContext context, Config config)
+    : Component(std::move(context)), config_(std::move(config)) {}
+
+StereoDepth::~StereoDepth() = default;
+
+Result<void, std::string> StereoDepth::on_configure() {
+  matcher_ =
+      std::make_unique<StereoMatcher>(config_.sgbm, config_.min_range_m, config_.max_range_m);
+  depth_ = create_publisher<msg::DepthImage>("depth");
+  create_subscription<msg::StereoFrame>(
+      "stereo", {.depth = config_.max_pending_frames},
+      [this](Sample<msg::StereoFrame>&& f) { on_frame(std::move(f)); });
+  create_subscription<msg::Odometry>(config_.pose_source == "vio" ? "odom" : "pose_gt",
+                                     {.depth = 16},
+                                     [this](Sample<msg::Odometry>&& p) { on_pose(std::move(p)); });
+  return {};
+}
+
+bool StereoDepth::valid(const msg::StereoFrame& f) {
+  const size_t n = size_t{f.intrinsics.width} * f.intrinsics.height;
+  const auto once = [&](uint64_t& counter, const char* what) {
+    if (counter++ == 0)
+      SCANCREW_LOG_WARN("%s: frame %llu skipped: %s (further ones are counted)",
+                        qualified_name().c_str(), static_cast<unsigned long long>(f.header.seq),
+                        what);
+    return false;
+  };
+  if (f.left.empty() || f.right.empty()) return once(stats_.empty, "empty image");
+  if (f.left.size() != f.right.size()) return once(stats_.size_mismatch, "left/right sizes differ");
+  if (n != f.left.size() || !(f.intrinsics.fx > 0) || !(f.baseline_m > 0))
+    return once(stats_.intrinsics_mismatch,
+                "the camera model does not match the image (size, focal length or baseline)");
+  return true;
+}
+
+void StereoDepth::on_frame(Sample<msg::StereoFrame>&& frame) {
+  ++stats_.frames;
+  if (!valid(*frame)) return;
+  if (pending_.size() >= config_.max_pending_frames) {
+    if (stats_.no_pose++ == 0)
+      SCANCREW_LOG_WARN(
+          "%s: no pose for frame stamped %lld ns: dropped (is the pose source "
+          "'%s' running?)",
+          qualified_name().c_str(), static_cast<long long>(pending_.front()->header.stamp_ns),
+          config_.pose_source.c_str());
+    pending_.pop_front();
+  }
+  pending_.push_back(std::move(frame));
+  process_ready();
+}
+
+void StereoDepth::on_pose(Sample<msg::Odometry>&& pose) {
+  if (poses_.size() >= config_.pose_history) poses_.pop_front();
+  poses_.push_back(std::move(pose));
+  process_ready();
+}
+
+void StereoDepth::process_ready() {
+  while (!pending_.empty()) {
+    const int64_t stamp = pending_.front()->header.stamp_ns;
+    const msg::Odometry* match = nullptr;
+    bool newer = false;
+    for (const auto& p : poses_) {
+      if (p->header.stamp_ns == stamp) match = p.get();
+      newer = newer || p->header.stamp_ns > stamp;
+    }
+    if (match == nullptr) {
+      if (!newer) return;  // its pose may still come
+      // poses arrive in stamp order: a newer one means this frame's pose will not come
+      if (stats_.no_pose++ == 0)
+        SCANCREW_LOG_WARN("%s: no pose stamped %lld ns: frame dropped (further ones are counted)",
+                          qualified_name().c_str(), static_cast<long long>(stamp));
+    } else if (match->tracking_quality <= 0) {
+      ++stats_.pose_lost;  // tracking lost: the frame cannot be placed in the map
+    } else {
+      compute(*pending_.front(), *match);
+    }
+    pending_.pop_front();
+    while (!poses_.empty() && poses_.front()->header.stamp_ns <= stamp) poses_.pop_front();
+  }
+}
+
+void StereoDepth::compute(const msg::StereoFrame& f, const msg::Odometry& pose) {
+  auto loan = depth_.loan();
+  if (!loan) return;  // counted by the topic as a loan failure
+  msg::DepthImage& d = **loan;
+  d.header.stamp_ns = f.header.stamp_ns;
+  d.intrinsics = f.intrinsics;
+  d.min_range_m = config_.min_range_m;
+  d.max_range_m = config_.max_range_m;
+  d.T_world_cam = msg::to_msg(msg::to_eigen(pose.T_world_body) * msg::to_eigen(f.T_body_cam));
+  matcher_->compute(f.left.data(), f.right.data(), f.intrinsics.width, f.intrinsics.height,
+                    f.intrinsics.fx, f.baseline_m, d.depth_m);
+  if (depth_.publish(std::move(*loan))) ++stats_.published;
+}
+
+void StereoDepth::on_deactivate() {
+  SCANCREW_LOG_INFO(
+      "%s: %llu frames, %llu depth images; skipped: %llu empty, %llu size mismatch, %llu "
+      "camera model mismatch, %llu without pose, %llu with tracking lost",
+      qualified_name().c_str(), static_cast<unsigned long long>(stats_.frames),
+      static_cast<unsigned long long>(stats_.published),
+      static_cast<unsigned long long>(stats_.empty),
+      static_cast<unsigned long long>(stats_.size_mismatch),
+      static_cast<unsigned long long>(stats_.intrinsics_mismatch),
+      static_cast<unsigned long long>(stats_.no_pose),
+      static_cast<unsigned long long>(stats_.pose_lost));
+}
+
+SCANCREW_REGISTER_COMPONENT(StereoDepth, "stereo_depth")
+
+}  // namespace scancrew::perception

@@ -1,0 +1,207 @@
+// Stereo depth on the sim backend against the simulator's ground-truth depth, and every
+// kind of bad frame counted and skipped.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "components/stereo/depth_error.hpp"
+#include "components/stereo/stereo_depth.hpp"
+#include "executors/launch.hpp"
+#include "executors/registry.hpp"
+
+namespace scancrew::perception {
+namespace {
+
+// Pairs each depth image with the ground truth of the same stamp.
+class DepthPairs final : public Component {
+ public:
+  static constexpr std::string_view kDescription = "test: pairs depth with depth_gt";
+  struct Config {};
+  static Config read_config(ParamReader& /*p*/) { return {}; }
+  DepthPairs(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
+
+  std::map<int64_t, msg::DepthImage> estimate, truth;
+
+ private:
+  Result<void, std::string> on_configure() override {
+    create_subscription<msg::DepthImage>(
+        "depth", {.depth = 8},
+        [this](Sample<msg::DepthImage>&& s) { estimate[s->header.stamp_ns] = *s; });
+    create_subscription<msg::DepthImage>(
+        "depth_gt", {.depth = 8},
+        [this](Sample<msg::DepthImage>&& s) { truth[s->header.stamp_ns] = *s; });
+    return {};
+  }
+};
+SCANCREW_REGISTER_COMPONENT(DepthPairs, "test_depth_pairs")
+
+// Publishes crafted frames and poses: one per tick, from a script.
+class Feeder final : public Component {
+ public:
+  static constexpr std::string_view kDescription = "test: publishes bad stereo frames";
+  struct Config {};
+  static Config read_config(ParamReader& /*p*/) { return {}; }
+  Feeder(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
+
+ private:
+  Result<void, std::string> on_configure() override {
+    stereo_ = create_publisher<msg::StereoFrame>("stereo");
+    pose_ = create_publisher<msg::Odometry>("pose_gt");
+    create_timer(std::chrono::milliseconds(100), [this] { tick(); });
+    return {};
+  }
+  void tick() {
+    const int64_t stamp = ++step_ * 100'000'000;
+    auto f = stereo_.loan();
+    ASSERT_TRUE(f);
+    msg::StereoFrame& frame = **f;
+    frame.header.stamp_ns = stamp;
+    frame.intrinsics = {64, 32, 32, 32, 31.5, 15.5};
+    frame.baseline_m = 0.26;
+    frame.left.assign(64 * 32, 100);
+    frame.right.assign(64 * 32, 100);
+    bool with_pose = true;
+    double quality = 1;
+    switch (step_) {
+      case 1:
+        frame.left.clear();
+        break;  // empty
+      case 2:
+        frame.right.resize(10);
+        break;  // size mismatch
+      case 3:
+        frame.intrinsics.width = 50;
+        break;  // camera model mismatch
+      case 4:
+        frame.baseline_m = 0;
+        break;  // camera model mismatch
+      case 5:
+        quality = 0;
+        break;  // tracking lost
+      case 6:
+        with_pose = false;
+        break;  // its pose never comes
+      default:
+        break;  // fine
+    }
+    (void)stereo_.publish(std::move(*f));
+    if (!with_pose) return;
+    auto p = pose_.loan();
+    ASSERT_TRUE(p);
+    (*p)->header.stamp_ns = stamp;
+    (*p)->tracking_quality = quality;
+    (void)pose_.publish(std::move(*p));
+  }
+  Publisher<msg::StereoFrame> stereo_;
+  Publisher<msg::Odometry> pose_;
+  int step_ = 0;
+};
+SCANCREW_REGISTER_COMPONENT(Feeder, "test_bad_frame_feeder")
+
+template <class T>
+T* find(const Launch& launch) {
+  for (const auto& c : launch.components())
+    if (auto* t = dynamic_cast<T*>(c.get())) return t;
+  return nullptr;
+}
+
+TEST(StereoDepth, DepthMatchesGroundTruthWithin2PercentUpTo5m) {
+  auto launch = Launch::from_string(R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: 2.0, sim_step_s: 0.05}
+robots:
+  - {id: 1, namespace: r1, kind: ground, start: [-3.0, -2.5, 0, 30]}
+components:
+  - name: sim
+    type: team_simulator
+    per_robot: false
+    params:
+      scene: )" SCANCREW_SOURCE_DIR R"(/launch_cfg/scenes/test_arena.yaml
+      publish_depth: false
+      publish_depth_gt: true
+      ground_camera_rate_hz: 5
+  - {name: stereo, type: stereo_depth, params: {pose_source: ground_truth}}
+  - {name: pairs, type: test_depth_pairs}
+)",
+                                    "stereo.yaml");
+  ASSERT_TRUE(launch) << launch.error().front();
+  (*launch)->run();
+  auto* pairs = find<DepthPairs>(**launch);
+  ASSERT_NE(pairs, nullptr);
+  ASSERT_EQ(pairs->estimate.size(), 10u);
+  DepthErrorAccumulator acc;
+  for (const auto& [stamp, est] : pairs->estimate) {
+    ASSERT_TRUE(pairs->truth.count(stamp)) << stamp;
+    const msg::DepthImage& gt = pairs->truth.at(stamp);
+    // the camera pose at capture: the same as the simulator's
+    EXPECT_NEAR(est.T_world_cam.position.x, gt.T_world_cam.position.x, 1e-9);
+    EXPECT_NEAR(est.T_world_cam.position.y, gt.T_world_cam.position.y, 1e-9);
+    EXPECT_NEAR(est.T_world_cam.position.z, gt.T_world_cam.position.z, 1e-9);
+    EXPECT_NEAR(std::abs(est.T_world_cam.orientation.w * gt.T_world_cam.orientation.w +
+                         est.T_world_cam.orientation.x * gt.T_world_cam.orientation.x +
+                         est.T_world_cam.orientation.y * gt.T_world_cam.orientation.y +
+                         est.T_world_cam.orientation.z * gt.T_world_cam.orientation.z),
+                1.0, 1e-9);
+    acc.add(est.depth_m, gt.depth_m, 0.65, 5.0);
+  }
+  const DepthError e = acc.result();
+  RecordProperty("median_rel", std::to_string(e.median_rel));
+  RecordProperty("valid_ratio", std::to_string(e.valid_ratio));
+  std::printf(
+      "depth vs ground truth (0.65-5 m): median rel %.4f, median abs %.4f m, valid %.3f, "
+      "outliers %.3f over %zu pixels\n",
+      e.median_rel, e.median_abs_m, e.valid_ratio, e.outlier_ratio, e.reference_pixels);
+  EXPECT_GT(e.reference_pixels, 100000u);
+  EXPECT_LE(e.median_rel, 0.02);
+  EXPECT_GE(e.valid_ratio, 0.6);
+  EXPECT_LE(e.outlier_ratio, 0.1);
+}
+
+TEST(StereoDepth, BadFramesAreCountedAndSkipped) {
+  auto launch = Launch::from_string(R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: 1.05, sim_step_s: 0.05}
+robots: [{id: 1, namespace: r1}]
+components:
+  - {name: feeder, type: test_bad_frame_feeder}
+  - {name: stereo, type: stereo_depth, params: {num_disparities: 16, max_pending_frames: 2}}
+)",
+                                    "bad.yaml");
+  ASSERT_TRUE(launch) << launch.error().front();
+  (*launch)->run();
+  auto* stereo = find<StereoDepth>(**launch);
+  ASSERT_NE(stereo, nullptr);
+  const StereoDepthStats& s = stereo->stats();
+  EXPECT_EQ(s.frames, 10u);
+  EXPECT_EQ(s.empty, 1u);
+  EXPECT_EQ(s.size_mismatch, 1u);
+  EXPECT_EQ(s.intrinsics_mismatch, 2u);
+  EXPECT_EQ(s.pose_lost, 1u);
+  EXPECT_EQ(s.no_pose, 1u);
+  EXPECT_EQ(s.published, 4u);  // frames 7 to 10
+}
+
+TEST(StereoDepth, BadParametersAreErrors) {
+  auto launch = Launch::from_string(R"(
+clock: sim
+executor: {type: step}
+robots: [{id: 1, namespace: r1}]
+components:
+  - {name: stereo, type: stereo_depth, params: {num_disparities: 50, block_size: 4, min_range_m: 3, max_range_m: 2, pose_source: lidar}}
+)",
+                                    "bad_params.yaml");
+  ASSERT_FALSE(launch);
+  std::string all;
+  for (const auto& e : launch.error()) all += e + "\n";
+  EXPECT_NE(all.find("num_disparities: must be a multiple of 16"), std::string::npos) << all;
+  EXPECT_NE(all.find("block_size: must be odd"), std::string::npos) << all;
+  EXPECT_NE(all.find("max_range_m: must be greater than min_range_m"), std::string::npos) << all;
+  EXPECT_NE(all.find("pose_source"), std::string::npos) << all;
+}
+
+}  // namespace
+}  // namespace scancrew::perception
