@@ -98,8 +98,8 @@ Result<BaseCommandLink, std::string> BaseCommandLink::open(const std::string& ho
                            ")");
   BaseCommandLink link(fd);  // closes the socket on the error below
   // connect(): fixes the destination, and reports ICMP errors on later sends
-  if (::connect(fd, reinterpret_cast<const sockaddr*>(&to), sizeof(to)) !=
-      0)  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): the sockets API takes sockaddr*
+  // (the sockets API takes a sockaddr*)
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&to), sizeof(to)) != 0)
     return make_unexpected(std::generic_category().message(errno));
   return link;
 }

@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <system_error>
 
 #include "interfaces/message_fields.hpp"
 
@@ -33,24 +34,22 @@ bool get(std::span<const uint8_t> in, size_t& at, T& v) {
 bool get_string(std::span<const uint8_t> in, size_t& at, std::string& s) {
   uint16_t n = 0;
   if (!get(in, at, n) || in.size() - at < n) return false;
-  s.assign(reinterpret_cast<const char*>(in.data() + at),
-           n);  // NOLINT(*-reinterpret-cast): bytes as chars
+  s.assign(reinterpret_cast<const char*>(in.data() + at), n);
   at += n;
   return true;
 }
 
 std::string errno_text() {
-  return std::strerror(
-      errno);  // NOLINT(concurrency-mt-unsafe): called right after the failing call
+  return std::error_code(errno, std::generic_category()).message();  // thread-safe strerror
 }
 
 }  // namespace
 
 void LogWriter::FileCloser::operator()(std::FILE* f) const {
-  std::fclose(f);  // NOLINT(cert-err33-c): nothing to do about a close error here; flush() reports
+  (void)std::fclose(f);  // a close error shows in flush() before it
 }
 void LogReader::FileCloser::operator()(std::FILE* f) const {
-  std::fclose(f);  // NOLINT(cert-err33-c): read-only file
+  (void)std::fclose(f);  // read only: nothing to lose
 }
 
 LogWriter::LogWriter(std::unique_ptr<std::FILE, FileCloser> file, std::string path)

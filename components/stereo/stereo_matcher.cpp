@@ -52,8 +52,8 @@ void StereoMatcher::compute(const uint8_t* left, const uint8_t* right, uint32_t 
   }
   const int w = static_cast<int>(width), h = static_cast<int>(height);
   // cv::Mat over the message buffers: no copy (OpenCV takes non-const data pointers)
-  const cv::Mat l(h, w, CV_8UC1, const_cast<uint8_t*>(left));   // NOLINT(*-const-cast): read only
-  const cv::Mat r(h, w, CV_8UC1, const_cast<uint8_t*>(right));  // NOLINT(*-const-cast): read only
+  const cv::Mat l(h, w, CV_8UC1, const_cast<uint8_t*>(left));
+  const cv::Mat r(h, w, CV_8UC1, const_cast<uint8_t*>(right));
   m.sgbm->compute(l, r, m.disparity);
   depth.resize(size_t{width} * height);
   const double fb = fx_px * baseline_m;

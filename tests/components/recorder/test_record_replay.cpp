@@ -169,8 +169,7 @@ TEST_F(RecordReplay, BadRecordingsAndBadTopicsAreClearErrors) {
     std::ofstream out(log_, std::ios::binary);
     out.write(kLogMagic, sizeof kLogMagic);
     const uint32_t version = msg::kMessageFormatVersion + 1;
-    out.write(reinterpret_cast<const char*>(&version),
-              sizeof version);  // NOLINT(*-reinterpret-cast): bytes of a scalar
+    out.write(reinterpret_cast<const char*>(&version), sizeof version);
   }
   launch = Launch::from_string(replay_launch(), "replay.yaml");
   ASSERT_FALSE(launch);
