@@ -9,6 +9,8 @@
 #include <system_error>
 #include <utility>
 
+#include "components/hardware_backend/device_error.hpp"
+
 namespace scancrew::hardware {
 
 namespace {
@@ -38,22 +40,6 @@ constexpr std::array<BaudRate, 19> kBaudRates = {{{1200, B1200},
                                                   {3000000, B3000000},
                                                   {4000000, B4000000}}};
 
-std::string cause(int err) {
-  switch (err) {
-    case ENOENT:
-    case ENODEV:
-    case ENXIO:
-      return "no such device";
-    case EACCES:
-    case EPERM:
-      return "permission denied; is the user in the 'dialout' group?";
-    case EBUSY:
-      return "device busy";
-    default:
-      return std::generic_category().message(err);
-  }
-}
-
 }  // namespace
 
 bool SerialPort::supported_baud(uint32_t baud) {
@@ -77,7 +63,7 @@ Result<SerialPort, std::string> SerialPort::open(const std::string& path, uint32
                            "; allowed: " + supported_bauds());
   if (path.empty()) return make_unexpected(std::string("no device given"));
   const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return make_unexpected(cause(errno));
+  if (fd < 0) return make_unexpected(device_open_error(errno, "dialout"));
   SerialPort port(fd);  // closes the descriptor on every error below
   termios tio{};
   if (::isatty(fd) == 0 || ::tcgetattr(fd, &tio) != 0)
@@ -90,7 +76,8 @@ Result<SerialPort, std::string> SerialPort::open(const std::string& path, uint32
   tio.c_cc[VTIME] = 0;
   if (::cfsetispeed(&tio, speed) != 0 || ::cfsetospeed(&tio, speed) != 0 ||
       ::tcsetattr(fd, TCSANOW, &tio) != 0)
-    return make_unexpected("cannot configure the port (" + cause(errno) + ")");
+    return make_unexpected("cannot configure the port (" + device_open_error(errno, "dialout") +
+                           ")");
   (void)::tcflush(fd, TCIFLUSH);  // stale input from before we opened it
   return port;
 }
@@ -118,7 +105,7 @@ Result<size_t, std::string> SerialPort::read_available(std::span<char> buffer) {
   const ssize_t n = ::read(fd_, buffer.data(), buffer.size());
   if (n >= 0) return static_cast<size_t>(n);
   if (errno == EAGAIN || errno == EINTR) return size_t{0};
-  return make_unexpected(cause(errno));
+  return make_unexpected(device_open_error(errno, "dialout"));
 }
 
 }  // namespace scancrew::hardware

@@ -14,6 +14,8 @@
 #include <optional>
 #include <system_error>
 
+#include "components/hardware_backend/device_error.hpp"
+
 namespace scancrew::hardware {
 
 std::string_view to_string(FrameStatus status) {
@@ -57,22 +59,6 @@ int opencv_api(Api api) {
   return cv::CAP_ANY;
 }
 
-std::string open_cause(int err) {
-  switch (err) {
-    case ENOENT:
-    case ENODEV:
-    case ENXIO:
-      return "no such device";
-    case EACCES:
-    case EPERM:
-      return "permission denied; is the user in the 'video' group?";
-    case EBUSY:
-      return "device busy";
-    default:
-      return std::generic_category().message(err);
-  }
-}
-
 // The file of an image-sequence pattern ("left_%03d.png") for one index, or nothing when
 // the pattern is not one printf-style %d (optionally zero-padded to a width).
 std::optional<std::string> sequence_file(const std::string& pattern, int index) {
@@ -97,7 +83,7 @@ std::string precheck(const std::string& device, Api api) {
   if (device.empty()) return "no device given";
   if (api == Api::kV4l2) {
     const int fd = ::open(device.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) return open_cause(errno);
+    if (fd < 0) return device_open_error(errno, "video");
     ::close(fd);
     return {};
   }

@@ -15,6 +15,7 @@
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 #include "interfaces/codec.hpp"
+#include "tests/components/find_component.hpp"
 
 namespace scancrew::recorder {
 namespace {
@@ -66,15 +67,11 @@ class RecordReplay : public ::testing::Test {
     if (!launch) return nullptr;
     launch_ = std::move(launch).value();
     launch_->run();
-    for (const auto& c : launch_->components())
-      if (auto* col = dynamic_cast<Collector*>(c.get())) return col;
-    return nullptr;
+    return find<Collector>();
   }
   template <class T>
   T* find() {
-    for (const auto& c : launch_->components())
-      if (auto* t = dynamic_cast<T*>(c.get())) return t;
-    return nullptr;
+    return test::find_component<T>(*launch_);
   }
 
   std::string record_launch() const {

@@ -10,6 +10,7 @@
 #include "components/stereo/stereo_depth.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
+#include "tests/components/find_component.hpp"
 
 namespace scancrew::perception {
 namespace {
@@ -100,12 +101,7 @@ class Feeder final : public Component {
 };
 SCANCREW_REGISTER_COMPONENT(Feeder, "test_bad_frame_feeder")
 
-template <class T>
-T* find(const Launch& launch) {
-  for (const auto& c : launch.components())
-    if (auto* t = dynamic_cast<T*>(c.get())) return t;
-  return nullptr;
-}
+using test::find_component;
 
 TEST(StereoDepth, DepthMatchesGroundTruthWithin2PercentUpTo5m) {
   auto launch = Launch::from_string(R"(
@@ -129,7 +125,7 @@ components:
                                     "stereo.yaml");
   ASSERT_TRUE(launch) << launch.error().front();
   (*launch)->run();
-  auto* pairs = find<DepthPairs>(**launch);
+  auto* pairs = find_component<DepthPairs>(**launch);
   ASSERT_NE(pairs, nullptr);
   ASSERT_EQ(pairs->estimate.size(), 10u);
   DepthErrorAccumulator acc;
@@ -173,7 +169,7 @@ components:
                                     "bad.yaml");
   ASSERT_TRUE(launch) << launch.error().front();
   (*launch)->run();
-  auto* stereo = find<StereoDepth>(**launch);
+  auto* stereo = find_component<StereoDepth>(**launch);
   ASSERT_NE(stereo, nullptr);
   const StereoDepthStats& s = stereo->stats();
   EXPECT_EQ(s.frames, 10u);
