@@ -9,7 +9,9 @@ std::string to_string(RobotKind kind) {
 }
 
 double CameraSpec::fx_px() const {
-  return 0.5 * width / std::tan(fov_h_deg * M_PI / 360.0);
+  // MuJoCo renders with the vertical FOV (MJCF fovy) over the image height; the horizontal
+  // FOV follows from the width (square pixels), within the aspect tolerance of validate()
+  return 0.5 * height / std::tan(fov_v_deg * M_PI / 360.0);
 }
 
 std::string CameraSpec::validate() const {

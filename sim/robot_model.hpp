@@ -23,7 +23,7 @@ struct CameraSpec {
   double mount_forward_m = 0.25;                // left camera centre in the body frame
   double mount_up_m = 0.35;  // (ground robot: above the floor; multirotor: above the body centre)
 
-  double fx_px() const;  // focal length from the horizontal FOV
+  double fx_px() const;  // focal length MuJoCo renders with: from the vertical FOV and height
   // Empty when valid, else what is wrong (zero baseline, FOV out of range, aspect that
   // square pixels cannot give).
   std::string validate() const;

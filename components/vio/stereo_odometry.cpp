@@ -1,0 +1,279 @@
+#include "components/vio/stereo_odometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "components/vio/keyframe.hpp"
+
+namespace scancrew::vio {
+
+std::string_view to_string(TrackingStatus status) {
+  switch (status) {
+    case TrackingStatus::kInitialised:
+      return "initialised";
+    case TrackingStatus::kTracked:
+      return "tracked";
+    case TrackingStatus::kNewKeyframe:
+      return "new keyframe";
+    case TrackingStatus::kLost:
+      return "lost";
+    case TrackingStatus::kNotInitialised:
+      return "not initialised";
+  }
+  return "unknown";
+}
+
+std::string_view to_string(LossReason reason) {
+  switch (reason) {
+    case LossReason::kNone:
+      return "none";
+    case LossReason::kTooFewTracks:
+      return "too few tracked corners";
+    case LossReason::kNoPoseSolution:
+      return "PnP RANSAC found no pose";
+    case LossReason::kTooFewInliers:
+      return "too few PnP inliers";
+    case LossReason::kGyroDisagreement:
+      return "PnP rotation disagrees with the gyro";
+    case LossReason::kCameraChanged:
+      return "the image size changed";
+  }
+  return "unknown";
+}
+
+struct StereoOdometry::Impl {
+  explicit Impl(const StereoOdometryConfig& c)
+      : config(c), tracker(c.features), stereo(c.stereo), pose(c.pose) {}
+
+  // Changes nothing but the tracker's previous image when the frame has too few stereo
+  // points (returns false).
+  bool make_keyframe(const StereoInput& frame, const Eigen::Isometry3d& T_world_body);
+  void predict_pixels(const StereoInput& frame, const Eigen::Isometry3d& T_world_body_pred);
+  // The complementary roll/pitch correction: turns T_world_body (and the keyframe with
+  // it, about the body's position) toward the accelerometer's vertical.
+  void correct_tilt(const Eigen::Vector3d& specific_force_mps2,
+                    const Eigen::Isometry3d& T_prevbody_body, double dt_s,
+                    Eigen::Isometry3d& T_world_body_now);
+
+  StereoOdometryConfig config;
+  FeatureTracker tracker;
+  SparseStereo stereo;
+  PoseEstimator pose;
+  Keyframe keyframe;
+  Tracks tracks;
+
+  bool started = false, tracking = false;
+  Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();  // latest estimate
+  // constant-velocity model: the body motion between the last two tracked frames
+  Eigen::Isometry3d T_prevbody_body = Eigen::Isometry3d::Identity();
+  int64_t last_stamp_ns = 0, last_dt_ns = 0;
+  bool have_stamp = false, have_motion = false;
+  uint32_t resets = 0;
+  uint64_t keyframes = 0;
+
+  // scratch, reused every frame
+  std::vector<Eigen::Vector2f> corners, from;
+  std::vector<uint8_t> ok;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<StereoPoint> matched;
+  PoseEstimate estimate;
+};
+
+bool StereoOdometry::Impl::make_keyframe(const StereoInput& frame,
+                                         const Eigen::Isometry3d& T_world_body_kf) {
+  // the tracked inliers first (they are good corners), then fresh ones around them
+  tracker.set_previous(frame.left);
+  corners.assign(tracks.px.begin(), tracks.px.end());
+  tracker.detect(tracks.px, corners);
+  matched.clear();
+  stereo.match(frame.left, frame.right, frame.intrinsics, frame.baseline_m, corners, matched);
+  if (matched.size() < std::max<size_t>(config.min_keyframe_points, 4)) return false;
+  keyframe.id = ++keyframes;
+  keyframe.stamp_ns = frame.stamp_ns;
+  keyframe.T_world_cam = T_world_body_kf * frame.T_body_cam;
+  keyframe.intrinsics = frame.intrinsics;
+  keyframe.points_cam.clear();
+  tracks.clear();
+  for (const StereoPoint& s : matched) {
+    tracks.point.push_back(static_cast<uint32_t>(keyframe.points_cam.size()));
+    tracks.px.push_back(s.left_px);
+    keyframe.points_cam.push_back(s.p_cam);
+  }
+  return true;
+}
+
+void StereoOdometry::Impl::predict_pixels(const StereoInput& frame,
+                                          const Eigen::Isometry3d& T_world_body_pred) {
+  // where each keyframe point lands under the predicted pose: KLT's starting guess
+  const Eigen::Isometry3d T_cam_kf =
+      (T_world_body_pred * frame.T_body_cam).inverse() * keyframe.T_world_cam;
+  const msg::CameraIntrinsics& k = frame.intrinsics;
+  const auto w = static_cast<float>(k.width), h = static_cast<float>(k.height);
+  from.assign(tracks.px.begin(), tracks.px.end());
+  for (size_t i = 0; i < tracks.size(); ++i) {
+    const Eigen::Vector3d p = T_cam_kf * keyframe.points_cam[tracks.point[i]];
+    if (p.z() < 0.05) continue;  // keeps the previous position
+    const Eigen::Vector2f px(static_cast<float>(k.fx * p.x() / p.z() + k.cx),
+                             static_cast<float>(k.fy * p.y() / p.z() + k.cy));
+    if (px.x() >= 0 && px.y() >= 0 && px.x() < w && px.y() < h) tracks.px[i] = px;
+  }
+}
+
+void StereoOdometry::Impl::correct_tilt(const Eigen::Vector3d& specific_force_mps2,
+                                        const Eigen::Isometry3d& T_prevbody_body, double dt_s,
+                                        Eigen::Isometry3d& T_world_body_now) {
+  if (!(config.gravity_time_constant_s > 0)) return;
+  constexpr double kGravity = 9.80665;
+  // the specific force less its centripetal part ω×v leaves gravity (and the unmodelled
+  // tangential acceleration, which the gate bounds)
+  const Eigen::AngleAxisd turn(T_prevbody_body.rotation());
+  const Eigen::Vector3d rate = turn.axis() * (turn.angle() / dt_s);
+  const Eigen::Vector3d velocity = T_prevbody_body.translation() / dt_s;
+  const Eigen::Vector3d up_body = specific_force_mps2 - rate.cross(velocity);
+  if (std::abs(up_body.norm() - kGravity) > config.gravity_gate_mps2) return;
+  const Eigen::Vector3d up_world = T_world_body_now.linear() * up_body.normalized();
+  const Eigen::Vector3d axis = up_world.cross(Eigen::Vector3d::UnitZ());
+  const double sin_angle = axis.norm();
+  if (sin_angle < 1e-12) return;
+  const double angle =
+      std::atan2(sin_angle, up_world.z()) * std::min(1.0, dt_s / config.gravity_time_constant_s);
+  // rotate the world about the body's position: the position stays, the tilt shrinks
+  const Eigen::Vector3d p = T_world_body_now.translation();
+  const Eigen::Isometry3d correction = Eigen::Translation3d(p) *
+                                       Eigen::AngleAxisd(angle, axis / sin_angle) *
+                                       Eigen::Translation3d(-p);
+  T_world_body_now = correction * T_world_body_now;
+  keyframe.T_world_cam = correction * keyframe.T_world_cam;
+}
+
+StereoOdometry::StereoOdometry(const StereoOdometryConfig& config)
+    : impl_(std::make_unique<Impl>(config)) {}
+
+StereoOdometry::~StereoOdometry() = default;
+
+void StereoOdometry::set_start(const Eigen::Isometry3d& T_world_body) {
+  Impl& m = *impl_;
+  m.started = true;
+  m.tracking = false;
+  m.T_world_body = T_world_body;
+  m.have_motion = false;
+  m.have_stamp = false;
+  m.tracks.clear();
+}
+
+bool StereoOdometry::started() const {
+  return impl_->started;
+}
+uint32_t StereoOdometry::resets() const {
+  return impl_->resets;
+}
+uint64_t StereoOdometry::keyframes() const {
+  return impl_->keyframes;
+}
+
+TrackingResult StereoOdometry::process(const StereoInput& frame, const ImuInterval& imu) {
+  Impl& m = *impl_;
+  const StereoOdometryConfig& c = m.config;
+  m.started = true;
+  TrackingResult result;
+  const std::optional<Eigen::Quaterniond> gyro = c.gyro_prior ? imu.q_prevbody_body : std::nullopt;
+  const int64_t dt_ns = m.have_stamp ? frame.stamp_ns - m.last_stamp_ns : 0;
+  m.last_stamp_ns = frame.stamp_ns;
+  m.have_stamp = true;
+  const Eigen::Isometry3d T_world_last = m.T_world_body;
+
+  // the last pose turned by the gyro: where a lost or re-initialised robot is assumed
+  Eigen::Isometry3d T_world_turned = T_world_last;
+  if (gyro) T_world_turned.linear() = T_world_last.linear() * gyro->toRotationMatrix();
+
+  const auto start_keyframe = [&](TrackingStatus on_success, TrackingStatus on_failure) {
+    m.T_world_body = T_world_turned;
+    m.tracks.clear();
+    m.have_motion = false;
+    m.tracking = m.make_keyframe(frame, m.T_world_body);
+    result.status = m.tracking ? on_success : on_failure;
+    result.keyframe_points = m.tracking ? m.keyframe.points_cam.size() : 0;
+    result.T_world_body = m.T_world_body;
+    return result;
+  };
+
+  if (!m.tracking) {
+    TrackingResult r =
+        start_keyframe(TrackingStatus::kInitialised, TrackingStatus::kNotInitialised);
+    r.quality = m.tracking ? 1.0 : 0.0;
+    return r;
+  }
+
+  const auto lose = [&](LossReason reason) {
+    ++m.resets;
+    result.loss = reason;
+    // a new keyframe at once if this image allows it, else at a later frame
+    start_keyframe(TrackingStatus::kLost, TrackingStatus::kLost);
+    result.quality = 0;
+    return result;
+  };
+
+  if (frame.intrinsics.width != m.keyframe.intrinsics.width ||
+      frame.intrinsics.height != m.keyframe.intrinsics.height)
+    return lose(LossReason::kCameraChanged);
+
+  // predicted pose: gyro rotation (or the last motion's), constant-velocity translation
+  Eigen::Isometry3d T_prev_pred = Eigen::Isometry3d::Identity();
+  if (m.have_motion && m.last_dt_ns > 0) {
+    T_prev_pred = m.T_prevbody_body;
+    T_prev_pred.translation() *= static_cast<double>(dt_ns) / static_cast<double>(m.last_dt_ns);
+  }
+  if (gyro) T_prev_pred.linear() = gyro->toRotationMatrix();
+  m.predict_pixels(frame, T_world_last * T_prev_pred);
+
+  // KLT from the previous image, then the pose against the keyframe
+  m.tracker.track(frame.left, m.from, m.tracks.px, m.ok);
+  m.tracks.keep_if(m.ok);
+  result.tracked = m.tracks.size();
+  result.keyframe_points = m.keyframe.points_cam.size();
+  if (m.tracks.size() < std::max<size_t>(c.pose.min_inliers, 4))
+    return lose(LossReason::kTooFewTracks);
+  m.points.clear();
+  for (const uint32_t i : m.tracks.point) m.points.push_back(m.keyframe.points_cam[i]);
+  m.pose.estimate(m.points, m.tracks.px, frame.intrinsics, m.estimate);
+  if (m.estimate.status == PoseStatus::kTooFewInliers) return lose(LossReason::kTooFewInliers);
+  if (m.estimate.status != PoseStatus::kOk) return lose(LossReason::kNoPoseSolution);
+  const Eigen::Isometry3d T_world_cam = m.keyframe.T_world_cam * m.estimate.T_cam_ref.inverse();
+  Eigen::Isometry3d T_world_new = T_world_cam * frame.T_body_cam.inverse();
+  const Eigen::Isometry3d T_prevbody_body = T_world_last.inverse() * T_world_new;
+  if (gyro) {
+    const double disagreement =
+        Eigen::Quaterniond(T_prevbody_body.rotation()).angularDistance(*gyro);
+    if (disagreement > c.max_gyro_disagreement_deg * M_PI / 180.0)
+      return lose(LossReason::kGyroDisagreement);
+  }
+
+  if (imu.mean_specific_force_mps2 && dt_ns > 0)
+    m.correct_tilt(*imu.mean_specific_force_mps2, T_prevbody_body,
+                   static_cast<double>(dt_ns) * 1e-9, T_world_new);
+
+  // accepted: keep the inliers, update the motion model
+  m.tracks.keep_if(m.estimate.inlier);
+  result.inliers = m.estimate.inliers;
+  result.quality = static_cast<double>(m.estimate.inliers) / static_cast<double>(result.tracked);
+  m.T_prevbody_body = T_prevbody_body;
+  m.last_dt_ns = dt_ns;
+  m.have_motion = dt_ns > 0;
+  m.T_world_body = T_world_new;
+  result.T_world_body = T_world_new;
+  result.status = TrackingStatus::kTracked;
+  const auto needed =
+      std::max(static_cast<double>(c.keyframe_min_inliers),
+               c.keyframe_min_inlier_ratio * static_cast<double>(m.keyframe.points_cam.size()));
+  if (static_cast<double>(m.estimate.inliers) < needed) {
+    // make_keyframe() changes nothing when it fails: the old keyframe stays tracked
+    if (m.make_keyframe(frame, T_world_new)) {
+      result.status = TrackingStatus::kNewKeyframe;
+      result.keyframe_points = m.keyframe.points_cam.size();
+    }
+  }
+  return result;
+}
+
+}  // namespace scancrew::vio

@@ -1,0 +1,120 @@
+#pragma once
+
+// StereoOdometry: keyframe-based stereo visual odometry with a gyro prior, after eVO
+// (Sanfourche, Vittori & Le Besnerais, "eVO: a realtime embedded stereo odometry for MAV
+// applications", IROS 2013; thesis 1.2.2, 5.2.2).
+//
+//   keyframe:  corners on the left image (grid-bucketed Shi-Tomasi), matched along the row
+//              in the right image and triangulated, z = f·B/d (A.2.2)
+//   each frame: KLT from the previous image, each track starting where the predicted pose
+//              (gyro rotation, constant-velocity translation) projects its keyframe point;
+//              P3P-RANSAC + LM refinement gives T_cam_keyframe; outliers are dropped
+//   gravity:   the keyframe's roll and pitch are pulled toward the accelerometer's vertical
+//              (eVO aligns its point clouds with the inertial vertical), so tilt drift
+//              does not build up from keyframe to keyframe
+//   new keyframe: when the inliers fall below keyframe_min_inliers (or a share of the
+//              keyframe's points); the tracked inliers are kept as corners of the new one
+//   lost:      too few tracks, no PnP solution, too few inliers, a PnP rotation that
+//              disagrees with the gyro, or a new image size: the frame is reported lost (quality 0)
+//              and a new keyframe is made at the last good pose turned by the gyro; if the image
+//              cannot make one (black, textureless), each later frame tries again.
+//
+// A plain library (no runtime): the `vio` component feeds it checked frames. OpenCV stays
+// in the .cpp files. Not thread safe. Its own buffers keep their capacity; OpenCV
+// allocates scratch inside KLT and RANSAC calls.
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string_view>
+
+#include "components/vio/feature_tracker.hpp"
+#include "components/vio/gray_image.hpp"
+#include "components/vio/pose_estimator.hpp"
+#include "components/vio/sparse_stereo.hpp"
+#include "interfaces/geometry.hpp"
+
+namespace scancrew::vio {
+
+struct StereoOdometryConfig {
+  FeatureTrackerConfig features;
+  SparseStereoConfig stereo;
+  PoseEstimatorConfig pose;
+  uint32_t keyframe_min_inliers = 80;      // fewer PnP inliers: the frame becomes a keyframe
+  double keyframe_min_inlier_ratio = 0.6;  // or fewer than this share of the keyframe's points
+  uint32_t min_keyframe_points = 25;       // a keyframe needs this many triangulated corners
+  bool gyro_prior = true;                  // rotation prior from the gyro (else constant velocity)
+  double max_gyro_disagreement_deg = 5.0;  // PnP vs gyro rotation since the last frame
+  // roll and pitch pulled toward the accelerometer's vertical with this time constant
+  // (a complementary filter; 0: off), using intervals whose specific force, less the
+  // centripetal part ω×v, is within gravity_gate_mps2 of g
+  double gravity_time_constant_s = 2.0;
+  double gravity_gate_mps2 = 0.3;
+};
+
+// What the IMU says about the interval since the previous frame (body frame).
+struct ImuInterval {
+  std::optional<Eigen::Quaterniond> q_prevbody_body;        // gyro rotation (nullopt: no IMU)
+  std::optional<Eigen::Vector3d> mean_specific_force_mps2;  // accelerometer mean
+};
+
+// A checked stereo frame (frame_check.hpp): images of the intrinsics' size.
+struct StereoInput {
+  GrayImage left, right;
+  msg::CameraIntrinsics intrinsics;
+  double baseline_m = 0;
+  Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
+  int64_t stamp_ns = 0;
+};
+
+enum class TrackingStatus : uint8_t {
+  kInitialised,     // first keyframe (or the one after a loss) made from this frame
+  kTracked,         // pose from the current keyframe
+  kNewKeyframe,     // tracked, and this frame became the new keyframe
+  kLost,            // tracking lost at this frame (a reset); pose is the last good one
+  kNotInitialised,  // no keyframe could be made yet (too few stereo points)
+};
+std::string_view to_string(TrackingStatus status);
+
+enum class LossReason : uint8_t {
+  kNone,
+  kTooFewTracks,
+  kNoPoseSolution,
+  kTooFewInliers,
+  kGyroDisagreement,
+  kCameraChanged,  // the image size changed
+};
+std::string_view to_string(LossReason reason);
+
+struct TrackingResult {
+  TrackingStatus status = TrackingStatus::kNotInitialised;
+  LossReason loss = LossReason::kNone;
+  Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+  double quality = 0;  // PnP inliers / tracks; 1 at a fresh keyframe; 0 when lost
+  size_t tracked = 0, inliers = 0, keyframe_points = 0;
+};
+
+class StereoOdometry {
+ public:
+  explicit StereoOdometry(const StereoOdometryConfig& config);
+  ~StereoOdometry();
+  StereoOdometry(const StereoOdometry&) = delete;
+  StereoOdometry& operator=(const StereoOdometry&) = delete;
+
+  // The body pose at the first frame (the launch's start pose, gravity-aligned).
+  // Forgets any keyframe.
+  void set_start(const Eigen::Isometry3d& T_world_body);
+  bool started() const;
+
+  TrackingResult process(const StereoInput& frame, const ImuInterval& imu);
+
+  uint32_t resets() const;     // losses so far
+  uint64_t keyframes() const;  // keyframes made so far
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace scancrew::vio
