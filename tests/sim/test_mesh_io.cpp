@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "sim/mesh_io.hpp"
 #include "tests/sim/sim_fixtures.hpp"
@@ -15,28 +16,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A 2 x 1 x 0.5 box as 12 triangles, its corner at the origin.
-constexpr const char* kBoxObj = R"(v 0 0 0
-v 2 0 0
-v 2 1 0
-v 0 1 0
-v 0 0 0.5
-v 2 0 0.5
-v 2 1 0.5
-v 0 1 0.5
-f 1 3 2
-f 1 4 3
-f 5 6 7
-f 5 7 8
-f 1 2 6
-f 1 6 5
-f 2 3 7
-f 2 7 6
-f 3 4 8
-f 3 8 7
-f 4 1 5
-f 4 5 8
-)";
+// An sx x sy x sz box as 12 triangles, its corner at the origin, as OBJ text.
+std::string box_obj(double sx, double sy, double sz) {
+  std::ostringstream obj;
+  for (int k = 0; k < 8; ++k)  // corners 1-4 at z = 0, 5-8 at z = sz, counter-clockwise
+    obj << "v " << ((k % 4 == 1 || k % 4 == 2) ? sx : 0) << ' ' << ((k % 4 >= 2) ? sy : 0) << ' '
+        << (k >= 4 ? sz : 0) << '\n';
+  obj << "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\n"
+         "f 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+  return obj.str();
+}
+const std::string kBoxObj = box_obj(2, 1, 0.5);
 constexpr double kBoxArea = 2 * (2 * 1 + 2 * 0.5 + 1 * 0.5);
 
 class MeshIo : public ::testing::Test {
@@ -128,27 +118,7 @@ TEST_F(MeshIo, TheShippedPowerplantFitsTheThesisFootprintOnTheGround) {
 
 TEST_F(MeshIo, AMeshWallRendersWhereTheSceneSaysWithin1mm) {
   // a 0.2 x 8 x 3 m slab, as the wall box of wall_scene()
-  write("slab.obj", R"(v 0 0 0
-v 0.2 0 0
-v 0.2 8 0
-v 0 8 0
-v 0 0 3
-v 0.2 0 3
-v 0.2 8 3
-v 0 8 3
-f 1 3 2
-f 1 4 3
-f 5 6 7
-f 5 7 8
-f 1 2 6
-f 1 6 5
-f 2 3 7
-f 2 7 6
-f 3 4 8
-f 3 8 7
-f 4 1 5
-f 4 5 8
-)");
+  write("slab.obj", box_obj(0.2, 8, 3));
   auto scene = parse_scene(R"(
 name: mesh_wall
 bounds_min_m: [-5, -5, 0]

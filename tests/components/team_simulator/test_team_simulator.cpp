@@ -8,40 +8,10 @@
 #include "components/team_simulator/team_simulator.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
+#include "tests/components/constant_driver.hpp"
 
 namespace scancrew::components {
 namespace {
-
-// Sends a constant velocity command every 0.1 s.
-class Driver final : public Component {
- public:
-  static constexpr std::string_view kDescription = "test: constant cmd_vel";
-  struct Config {
-    double vx = 0, yaw_rate = 0;
-  };
-  static Config read_config(ParamReader& p) {
-    Config c;
-    p.optional("vx", c.vx);
-    p.optional("yaw_rate", c.yaw_rate);
-    return c;
-  }
-  Driver(ComponentContext c, Config config) : Component(std::move(c)), config_(config) {}
-
- private:
-  Result<void, std::string> on_configure() override {
-    pub_ = create_publisher<msg::VelocityCommand>("cmd_vel");
-    create_timer(std::chrono::milliseconds(100), [this] {
-      auto loan = pub_.loan();
-      if (!loan) return;
-      (*loan)->linear_mps = {config_.vx, 0, 0};
-      (*loan)->yaw_rate_radps = config_.yaw_rate;
-      (void)pub_.publish(std::move(*loan));
-    });
-    return {};
-  }
-  Config config_;
-  Publisher<msg::VelocityCommand> pub_;
-};
 
 // Records what the robot's sensors deliver.
 class Recorder final : public Component {
@@ -80,7 +50,6 @@ class Recorder final : public Component {
   }
 };
 
-SCANCREW_REGISTER_COMPONENT(Driver, "test_driver")
 SCANCREW_REGISTER_COMPONENT(Recorder, "test_recorder")
 
 std::string launch_text(const char* scene) {
@@ -103,7 +72,7 @@ components:
       ground_camera_height: 93
       ground_camera_rate_hz: 5
       imu_rate_hz: 50
-  - {name: driver, type: test_driver, params: {vx: 0.5}}
+  - {name: driver, type: test_constant_driver, params: {vx: 0.5}}
   - {name: recorder, type: test_recorder}
 )";
 }

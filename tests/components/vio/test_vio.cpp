@@ -13,41 +13,11 @@
 #include "eval/odometry_error.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
+#include "tests/components/constant_driver.hpp"
 #include "tests/components/find_component.hpp"
 
 namespace scancrew::vio {
 namespace {
-
-// Sends a constant velocity command every 0.1 s.
-class Driver final : public Component {
- public:
-  static constexpr std::string_view kDescription = "test: constant cmd_vel";
-  struct Config {
-    double vx = 0, yaw_rate = 0;
-  };
-  static Config read_config(ParamReader& p) {
-    Config c;
-    p.optional("vx", c.vx);
-    p.optional("yaw_rate", c.yaw_rate);
-    return c;
-  }
-  Driver(ComponentContext c, Config config) : Component(std::move(c)), config_(config) {}
-
- private:
-  Result<void, std::string> on_configure() override {
-    pub_ = create_publisher<msg::VelocityCommand>("cmd_vel");
-    create_timer(std::chrono::milliseconds(100), [this] {
-      auto loan = pub_.loan();
-      if (!loan) return;
-      (*loan)->linear_mps = {config_.vx, 0, 0};
-      (*loan)->yaw_rate_radps = config_.yaw_rate;
-      (void)pub_.publish(std::move(*loan));
-    });
-    return {};
-  }
-  Config config_;
-  Publisher<msg::VelocityCommand> pub_;
-};
 
 // Passes the simulator's stereo and IMU on to the VIO (stereo_out, imu_out), spoiling
 // chosen ones: black frames in a time window, a frame with a short right image, one whose
@@ -128,7 +98,6 @@ class Collector final : public Component {
   }
 };
 
-SCANCREW_REGISTER_COMPONENT(Driver, "test_vio_driver")
 SCANCREW_REGISTER_COMPONENT(Tamper, "test_vio_tamper")
 SCANCREW_REGISTER_COMPONENT(Collector, "test_vio_collector")
 
@@ -172,7 +141,7 @@ components:
     remap: {stereo: stereo_out, imu: imu_out}
     params: )" +
          s.vio + R"(
-  - {name: driver, type: test_vio_driver, params: {vx: 0.4, yaw_rate: )" +
+  - {name: driver, type: test_constant_driver, params: {vx: 0.4, yaw_rate: )" +
          std::to_string(s.yaw_rate_radps) + R"(}}
   - {name: collector, type: test_vio_collector}
 )";
