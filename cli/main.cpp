@@ -1,4 +1,5 @@
-// scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, bench.
+// scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, bench
+// (ipc, sim, perception).
 
 #include <CLI/CLI.hpp>
 #include <csignal>
@@ -12,6 +13,7 @@
 #include "executors/registry.hpp"
 #ifdef SCANCREW_WITH_BENCH
 #include "bench/ipc/ipc_bench.hpp"
+#include "bench/perception/perception_bench.hpp"
 #include "bench/sim/sim_bench.hpp"
 #endif
 
@@ -146,6 +148,31 @@ int main(int argc, char** argv) {
   sim_cmd->add_option("--sim-seconds", sim_bench.sim_seconds, "simulated seconds per case")
       ->check(CLI::Range(0.1, 3600.0));
 
+  scancrew::bench::PerceptionBenchOptions perception_bench;
+  auto* perception_cmd = bench->add_subcommand(
+      "perception", "stereo depth and VIO on a recorded parking-lot sequence: time and error");
+  perception_cmd->add_flag("--json", perception_bench.json, "print one JSON object");
+  perception_cmd->add_option("--scene", perception_bench.scene_path, "scene to record in")
+      ->check(CLI::ExistingFile);
+  perception_cmd
+      ->add_option("--recording", perception_bench.recording,
+                   "play this .sclog (stereo, imu, pose_gt, depth_gt) instead of recording one")
+      ->check(CLI::ExistingFile);
+  perception_cmd->add_option("--keep", perception_bench.keep,
+                             "write the recording made to this path and keep it");
+  perception_cmd
+      ->add_option("--distance", perception_bench.distance_m, "metres to drive (default 62)")
+      ->check(CLI::Range(0.5, 10000.0));
+  perception_cmd
+      ->add_option("--rpe-segment", perception_bench.rpe_segment_m,
+                   "RPE segment length, m (default 10)")
+      ->check(CLI::Range(0.1, 10000.0));
+  perception_cmd->add_option("--width", perception_bench.width, "image width (default 320)")
+      ->check(CLI::Range(64u, 1920u));
+  perception_cmd->add_option("--height", perception_bench.height, "image height (default 256)")
+      ->check(CLI::Range(64u, 1080u));
+  perception_cmd->add_option("--seed", perception_bench.seed, "simulator seed (default 1)");
+
   CLI11_PARSE(app, argc, argv);
 
   if (run->parsed()) return cmd_run(launch_path);
@@ -156,6 +183,14 @@ int main(int argc, char** argv) {
   if (sim_cmd->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_sim_bench(sim_bench);
+#else
+    std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
+    return 2;
+#endif
+  }
+  if (perception_cmd->parsed()) {
+#ifdef SCANCREW_WITH_BENCH
+    return scancrew::bench::run_perception_bench(perception_bench);
 #else
     std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
     return 2;

@@ -59,6 +59,13 @@ class Launch {
   // Activates every component, runs for settings().duration_s (or until request_stop()),
   // then deactivates them. Returns the seconds run on the launch's clock.
   double run(const Progress& progress = {});
+  // The first component of type T (null if none), to read its counters after a run.
+  template <class T>
+  T* find_component() const {
+    for (const auto& c : components_)
+      if (auto* t = dynamic_cast<T*>(c.get())) return t;
+    return nullptr;
+  }
   void request_stop() { stop_requested_.store(true); }
 
  private:

@@ -5,7 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 [ -f build/release/compile_commands.json ] || ./scripts/build.sh release
-mapfile -t files < <(git ls-files 'executors/*.cpp' 'components/*.cpp' 'cli/*.cpp' 'sim/*.cpp' 'eval/*.cpp')
+mapfile -t files < <(git ls-files 'executors/*.cpp' 'components/*.cpp' 'cli/*.cpp' 'sim/*.cpp' 'eval/*.cpp' \
+  'bench/sim/*.cpp' 'bench/perception/*.cpp')
 out=$(mktemp)
 if ! clang-tidy -p build/release --quiet --warnings-as-errors='*' "${files[@]}" >"$out" 2>&1; then
   grep -v "warnings generated" "$out"

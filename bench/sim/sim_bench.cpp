@@ -40,6 +40,7 @@ sim::RobotSpec robot(uint32_t id, double x, double y, uint32_t w, uint32_t h) {
 // Free start positions in the parking lot (the default scene): a row along y = -6 m.
 std::vector<sim::RobotSpec> team(int n, uint32_t w, uint32_t h) {
   std::vector<sim::RobotSpec> robots;
+  robots.reserve(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i)
     robots.push_back(robot(static_cast<uint32_t>(i + 1), -9.0 + 2.0 * i, -6.0, w, h));
   return robots;

@@ -15,7 +15,6 @@
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 #include "interfaces/codec.hpp"
-#include "tests/components/find_component.hpp"
 
 namespace scancrew::recorder {
 namespace {
@@ -71,7 +70,7 @@ class RecordReplay : public ::testing::Test {
   }
   template <class T>
   T* find() {
-    return test::find_component<T>(*launch_);
+    return launch_->find_component<T>();
   }
 
   std::string record_launch() const {

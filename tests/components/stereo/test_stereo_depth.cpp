@@ -10,7 +10,6 @@
 #include "components/stereo/stereo_depth.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
-#include "tests/components/find_component.hpp"
 
 namespace scancrew::perception {
 namespace {
@@ -101,8 +100,6 @@ class Feeder final : public Component {
 };
 SCANCREW_REGISTER_COMPONENT(Feeder, "test_bad_frame_feeder")
 
-using test::find_component;
-
 TEST(StereoDepth, DepthMatchesGroundTruthWithin2PercentUpTo5m) {
   auto launch = Launch::from_string(R"(
 clock: sim
@@ -125,7 +122,7 @@ components:
                                     "stereo.yaml");
   ASSERT_TRUE(launch) << launch.error().front();
   (*launch)->run();
-  auto* pairs = find_component<DepthPairs>(**launch);
+  auto* pairs = (*launch)->find_component<DepthPairs>();
   ASSERT_NE(pairs, nullptr);
   ASSERT_EQ(pairs->estimate.size(), 10u);
   DepthErrorAccumulator acc;
@@ -169,7 +166,7 @@ components:
                                     "bad.yaml");
   ASSERT_TRUE(launch) << launch.error().front();
   (*launch)->run();
-  auto* stereo = find_component<StereoDepth>(**launch);
+  auto* stereo = (*launch)->find_component<StereoDepth>();
   ASSERT_NE(stereo, nullptr);
   const StereoDepthStats& s = stereo->stats();
   EXPECT_EQ(s.frames, 10u);

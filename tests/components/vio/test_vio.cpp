@@ -14,7 +14,6 @@
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 #include "tests/components/constant_driver.hpp"
-#include "tests/components/find_component.hpp"
 
 namespace scancrew::vio {
 namespace {
@@ -160,8 +159,8 @@ VioRun run(const std::string& text) {
   if (!launch) return r;
   r.launch = std::move(launch).value();
   r.launch->run();
-  r.vio = test::find_component<Vio>(*r.launch);
-  r.collector = test::find_component<Collector>(*r.launch);
+  r.vio = r.launch->find_component<Vio>();
+  r.collector = r.launch->find_component<Collector>();
   return r;
 }
 
