@@ -20,6 +20,9 @@ PACKAGES=(
   libassimp-dev libpng-dev
   # perception, hardware backend (V4L2 cameras through OpenCV)
   libopencv-dev libeigen3-dev
+  # mapping: parallel integration, patch compression, OctoMap export; Open3D is the
+  # side-by-side peer of `scancrew bench tsdf`
+  libtbb-dev libzstd-dev liboctomap-dev libopen3d-dev
   # style checks run in CI
   clang-format clang-tidy
 )

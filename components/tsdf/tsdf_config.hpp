@@ -1,0 +1,24 @@
+#pragma once
+
+// Parameters of the TSDF (thesis 1.3.3, 2.4.1, 3.4.1; tables 2.1, 4.1, 5.3). Read from a
+// component's params (tsdf_mapper) or set directly by benchmarks and tests.
+
+#include <string>
+
+namespace scancrew::tsdf {
+
+struct TsdfConfig {
+  double voxel_m = 0.2;       // r_v
+  double truncation_m = 0.6;  // μ (eq. 1.3); 3 voxels by default
+  double w_th = 0.3;          // W_th: a voxel is known when w ≥ W_th
+  double max_weight = 50.0;   // w saturates here (thesis 1.3.3: "up to a maximum amount")
+  double min_range_m = 0.3;   // depth outside [min, max] is not integrated
+  double max_range_m = 5.0;
+  std::string weight = "inverse_square";  // inverse_square (1/z², 3.4.1) | constant (1)
+  int tile_px = 8;                        // block selection: depth tiles of tile_px² pixels
+
+  // Empty when valid, else what is wrong (names the parameter).
+  std::string validate() const;
+};
+
+}  // namespace scancrew::tsdf

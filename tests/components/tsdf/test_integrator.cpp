@@ -1,0 +1,263 @@
+// The TSDF integrator against a plain per-voxel reference (every voxel of a dense box, the
+// same equations, no block selection), a plane reconstructed within e_max, bad frames
+// refused with the map unchanged, and copy-on-write snapshots.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "components/tsdf/integrator.hpp"
+#include "components/tsdf/tsdf_map.hpp"
+
+namespace scancrew::tsdf {
+namespace {
+
+constexpr uint32_t kW = 160, kH = 120;
+constexpr double kF = 80.0;  // 90° horizontal FOV
+
+// A camera at the origin looking along +x (z forward in the camera frame).
+Eigen::Isometry3d looking_along_x(const Eigen::Vector3d& position) {
+  Eigen::Matrix3d R;
+  R.col(0) = Eigen::Vector3d(0, -1, 0);  // camera x: right
+  R.col(1) = Eigen::Vector3d(0, 0, -1);  // camera y: down
+  R.col(2) = Eigen::Vector3d(1, 0, 0);   // camera z: forward
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = position;
+  return T;
+}
+
+// Depth of a wall x = wall_x seen from a camera looking along +x: z = wall_x − camera x.
+// Optionally a step: pixels with u ≥ step_u see a nearer wall.
+std::vector<float> wall_depth(double z, double step_u = kW, double z_near = 0) {
+  std::vector<float> d(static_cast<size_t>(kW) * kH, static_cast<float>(z));
+  for (uint32_t v = 0; v < kH; ++v)
+    for (uint32_t u = 0; u < kW; ++u)
+      if (u >= step_u) d[v * kW + u] = static_cast<float>(z_near);
+  return d;
+}
+
+DepthFrame frame(const std::vector<float>& depth, const Eigen::Isometry3d& T_world_cam) {
+  DepthFrame f;
+  f.depth_m = depth.data();
+  f.size = depth.size();
+  f.width = kW;
+  f.height = kH;
+  f.fx = f.fy = kF;
+  f.cx = kW / 2.0;
+  f.cy = kH / 2.0;
+  f.T_world_cam = T_world_cam;
+  return f;
+}
+
+// The reference: every voxel of [lo, hi) (global voxel indices), the equations written
+// out plainly in double precision.
+std::vector<Voxel> reference(const TsdfConfig& c, const std::vector<DepthFrame>& frames,
+                             const Eigen::Vector3i& lo, const Eigen::Vector3i& hi) {
+  const Eigen::Vector3i n = hi - lo;
+  std::vector<Voxel> out(static_cast<size_t>(n.prod()));
+  for (const DepthFrame& f : frames) {
+    const Eigen::Isometry3d T_cam_world = f.T_world_cam.inverse();
+    for (int z = 0; z < n.z(); ++z)
+      for (int y = 0; y < n.y(); ++y)
+        for (int x = 0; x < n.x(); ++x) {
+          const Eigen::Vector3d p =
+              T_cam_world * voxel_center(lo + Eigen::Vector3i(x, y, z), c.voxel_m);
+          if (p.z() <= 0) continue;
+          const long u = std::lround(f.fx * p.x() / p.z() + f.cx);
+          const long v = std::lround(f.fy * p.y() / p.z() + f.cy);
+          if (u < 0 || v < 0 || u >= f.width || v >= f.height) continue;
+          const double depth = f.depth_m[static_cast<size_t>(v) * f.width + u];
+          if (!(depth >= c.min_range_m && depth <= c.max_range_m)) continue;
+          const double d = depth - p.z();
+          if (d < -c.truncation_m) continue;
+          const double phi = std::min(d, c.truncation_m);
+          const double wc = c.weight == "constant" ? 1.0 : 1.0 / p.squaredNorm();
+          Voxel& vox = out[static_cast<size_t>(x + n.x() * (y + n.y() * z))];
+          const double w = vox.weight + wc;
+          vox.distance_m = static_cast<float>((vox.distance_m * vox.weight + phi * wc) / w);
+          vox.weight = static_cast<float>(std::min(w, c.max_weight));
+        }
+  }
+  return out;
+}
+
+TsdfConfig config() {
+  TsdfConfig c;
+  c.voxel_m = 0.1;
+  c.truncation_m = 0.3;
+  c.max_range_m = 5.0;
+  c.max_weight = 1000;
+  return c;
+}
+
+TEST(Integrator, AgreesWithAPlainPerVoxelReference) {
+  const TsdfConfig c = config();
+  // three views of a stepped wall from different places and headings
+  const std::vector<float> d1 = wall_depth(3.0, 100, 2.2), d2 = wall_depth(2.5),
+                           d3 = wall_depth(3.4, 40, 1.9);
+  Eigen::Isometry3d turned = looking_along_x({0.2, -0.3, 0.1});
+  turned.linear() =
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix() * turned.linear();
+  const std::vector<DepthFrame> frames = {frame(d1, looking_along_x({0, 0, 0})),
+                                          frame(d2, looking_along_x({0.45, 0.1, -0.05})),
+                                          frame(d3, turned)};
+  TsdfMap map(c);
+  Integrator integrator(c);
+  for (const DepthFrame& f : frames) ASSERT_TRUE(integrator.integrate(map, f));
+
+  const Eigen::Vector3i lo(-8, -60, -45), hi(60, 60, 45);
+  const std::vector<Voxel> ref = reference(c, frames, lo, hi);
+  const auto snap = map.snapshot();
+  size_t observed = 0, missing = 0;
+  double max_d = 0, max_w = 0;
+  const Eigen::Vector3i n = hi - lo;
+  for (int z = 0; z < n.z(); ++z)
+    for (int y = 0; y < n.y(); ++y)
+      for (int x = 0; x < n.x(); ++x) {
+        const Voxel& r = ref[static_cast<size_t>(x + n.x() * (y + n.y() * z))];
+        const Voxel* v = snap->voxel(lo + Eigen::Vector3i(x, y, z));
+        if (r.weight == 0) {
+          if (v != nullptr) EXPECT_EQ(v->weight, 0.0f);
+          continue;
+        }
+        ++observed;
+        if (v == nullptr) {
+          ++missing;
+          continue;
+        }
+        max_d = std::max(max_d, static_cast<double>(std::abs(v->distance_m - r.distance_m)));
+        max_w = std::max(max_w, static_cast<double>(std::abs(v->weight - r.weight) / r.weight));
+      }
+  EXPECT_GT(observed, 40000u);
+  EXPECT_EQ(missing, 0u);  // block selection drops nothing the reference integrates
+  EXPECT_LT(max_d, 1e-4);  // float vs double
+  EXPECT_LT(max_w, 1e-4);
+  // nothing outside the reference box was written
+  for (const auto& [index, block] : snap->blocks())
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_GE(index[i] * kBlockSide + kBlockSide, lo[i]);
+      EXPECT_LE(index[i] * kBlockSide, hi[i]);
+    }
+}
+
+TEST(Integrator, APlaneIsReconstructedWithinEmax) {
+  const TsdfConfig c = config();
+  TsdfMap map(c);
+  Integrator integrator(c);
+  const std::vector<float> d = wall_depth(3.03);
+  for (int i = 0; i < 8; ++i)
+    ASSERT_TRUE(integrator.integrate(map, frame(d, looking_along_x({0, 0, 0}))));
+  const auto snap = map.snapshot();
+  // along the optical axis: empty up to the wall, the zero crossing at x = 3.03, occupied
+  // behind, unknown beyond μ
+  EXPECT_EQ(snap->state_at({1.0, 0.01, 0.01}), VoxelState::kEmpty);
+  EXPECT_EQ(snap->state_at({2.98, 0.01, 0.01}), VoxelState::kEmpty);
+  EXPECT_EQ(snap->state_at({3.08, 0.01, 0.01}), VoxelState::kOccupied);
+  EXPECT_EQ(snap->state_at({3.5, 0.01, 0.01}), VoxelState::kUnknown);
+  EXPECT_EQ(snap->state_at({-1.0, 0.01, 0.01}), VoxelState::kUnknown);  // behind the camera
+  // the interpolated zero crossing between the voxel centres 2.95 and 3.05
+  const double a = *snap->distance({2.95, 0.01, 0.01}), b = *snap->distance({3.05, 0.01, 0.01});
+  const double crossing = 2.95 + 0.1 * a / (a - b);
+  EXPECT_NEAR(crossing, 3.03, 0.1 * std::sqrt(3.0) / 2);
+  EXPECT_NEAR(crossing, 3.03, 0.01);
+  // a ray from the camera meets the wall
+  const auto hit = snap->cast_ray({0, 0.01, 0.01}, {1, 0, 0}, 10.0);
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->hit.distance_m, 3.0, 0.11);
+  EXPECT_FALSE(snap->cast_ray({0, 0.01, 0.01}, {-1, 0, 0}, 10.0));
+  // occupied: known voxels behind the wall, within μ of it
+  size_t occupied = 0, misplaced = 0;
+  snap->for_each_occupied([&](const VoxelIndex& v, const Voxel&) {
+    ++occupied;
+    const double x = voxel_center(v, c.voxel_m).x();
+    if (x < 3.03 || x > 3.03 + c.truncation_m) ++misplaced;
+  });
+  EXPECT_GT(occupied, 1000u);
+  EXPECT_EQ(misplaced, 0u);
+}
+
+TEST(Integrator, BadFramesAreRefusedAndTheMapIsUnchanged) {
+  const TsdfConfig c = config();
+  TsdfMap map(c);
+  Integrator integrator(c);
+  std::vector<float> d = wall_depth(2.0);
+  ASSERT_TRUE(integrator.integrate(map, frame(d, looking_along_x({0, 0, 0}))));
+  const auto before = map.snapshot();
+  const uint64_t sequence = map.sequence();
+
+  d[500] = std::numeric_limits<float>::infinity();
+  auto r = integrator.integrate(map, frame(d, looking_along_x({0, 0, 0})));
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("inf and negative are refused"), std::string::npos) << r.error();
+  d[500] = -1;
+  EXPECT_FALSE(integrator.integrate(map, frame(d, looking_along_x({0, 0, 0}))));
+  d[500] = 2.0;
+
+  Eigen::Isometry3d sheared = looking_along_x({0, 0, 0});
+  sheared.linear()(0, 1) += 0.1;
+  r = integrator.integrate(map, frame(d, sheared));
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error(), "camera pose is not a rigid transform");
+  DepthFrame short_frame = frame(d, looking_along_x({0, 0, 0}));
+  short_frame.size -= 1;
+  EXPECT_FALSE(integrator.integrate(map, short_frame));
+  DepthFrame bad_k = frame(d, looking_along_x({0, 0, 0}));
+  bad_k.fx = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(integrator.integrate(map, bad_k));
+
+  EXPECT_EQ(map.sequence(), sequence);
+  EXPECT_EQ(map.block_count(), before->block_count());
+  for (const auto& [index, block] : map.blocks()) EXPECT_EQ(block.get(), before->block(index));
+
+  // an all-NaN frame integrates nothing
+  std::vector<float> none(d.size(), std::numeric_limits<float>::quiet_NaN());
+  auto stats = integrator.integrate(map, frame(none, looking_along_x({0, 0, 0})));
+  ASSERT_TRUE(stats);
+  EXPECT_EQ(stats->updated_voxels, 0u);
+}
+
+TEST(Integrator, SnapshotsAreUnchangedByLaterIntegrationAndShareUntouchedBlocks) {
+  const TsdfConfig c = config();
+  TsdfMap map(c);
+  Integrator integrator(c);
+  const std::vector<float> d = wall_depth(2.0);
+  ASSERT_TRUE(integrator.integrate(map, frame(d, looking_along_x({0, 0, 0}))));
+  const auto first = map.snapshot();
+  const Voxel before = *first->voxel(voxel_of({1.95, 0.01, 0.01}, c.voxel_m));
+
+  // a second view that overlaps part of the first
+  const std::vector<float> d2 = wall_depth(2.0);
+  Eigen::Isometry3d moved = looking_along_x({0, 3.0, 0});
+  ASSERT_TRUE(integrator.integrate(map, frame(d2, moved)));
+  ASSERT_TRUE(integrator.integrate(map, frame(d, looking_along_x({0, 0, 0}))));
+  const auto second = map.snapshot();
+  EXPECT_EQ(first->voxel(voxel_of({1.95, 0.01, 0.01}, c.voxel_m))->weight, before.weight);
+  EXPECT_GT(second->voxel(voxel_of({1.95, 0.01, 0.01}, c.voxel_m))->weight, before.weight);
+
+  size_t shared = 0;
+  for (const auto& [index, block] : second->blocks())
+    if (first->block(index) == block.get()) ++shared;
+  const auto changed = second->changed_since(first->sequence());
+  EXPECT_GT(changed.size(), 0u);
+  EXPECT_EQ(shared + changed.size(), second->block_count());
+  for (const BlockIndex& b : changed) EXPECT_NE(first->block(b), second->block(b));
+}
+
+TEST(TsdfConfig, RefusesParametersOutOfRange) {
+  TsdfConfig c;
+  EXPECT_EQ(c.validate(), "");
+  c.w_th = 0;
+  EXPECT_EQ(c.validate(), "w_th must be > 0");
+  c = {};
+  c.truncation_m = 0.01;
+  EXPECT_NE(c.validate().find("truncation_m"), std::string::npos);
+  c = {};
+  c.max_range_m = 0.1;
+  EXPECT_NE(c.validate().find("max_range_m"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace scancrew::tsdf
