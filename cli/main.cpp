@@ -1,4 +1,4 @@
-// scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, bench
+// scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, eval, bench
 // (ipc, sim, perception).
 
 #include <CLI/CLI.hpp>
@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "cli/eval_command.hpp"
 #include "cli/groundtruth_command.hpp"
 #include "cli/render_command.hpp"
 #include "cli/report.hpp"
@@ -121,6 +122,21 @@ int main(int argc, char** argv) {
   groundtruth->add_option("--density", gt_options.density_per_m2, "points per m2 (default 10000)");
   groundtruth->add_option("--seed", gt_options.seed, "random seed (default 1)");
 
+  scancrew::cli::EvalOptions eval_options;
+  auto* eval = app.add_subcommand(
+      "eval", "score a reconstructed mesh against a scene's ground truth: coverage, error");
+  eval->add_option("--mesh", eval_options.mesh_path, "reconstructed mesh (.ply)")->required();
+  eval->add_option("--scene", eval_options.scene_path, "scene file (YAML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  eval->add_option("--voxel", eval_options.voxel_size_m,
+                   "voxel size r_v, m; e_max = r_v*sqrt(3)/2 (default 0.2)")
+      ->check(CLI::Range(1e-4, 100.0));
+  eval->add_option("--density", eval_options.density_per_m2,
+                   "ground-truth points per m2 (default 10000)");
+  eval->add_option("--seed", eval_options.seed, "ground-truth random seed (default 1)");
+  eval->add_flag("--json", eval_options.json, "print one JSON object");
+
   auto* bench = app.add_subcommand("bench", "benchmarks");
   bench->require_subcommand(1);
   auto* ipc =
@@ -180,6 +196,7 @@ int main(int argc, char** argv) {
   if (graph->parsed()) return cmd_graph(graph_path);
   if (render->parsed()) return scancrew::cli::run_render(render_options);
   if (groundtruth->parsed()) return scancrew::cli::run_groundtruth(gt_options);
+  if (eval->parsed()) return scancrew::cli::run_eval(eval_options);
   if (sim_cmd->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_sim_bench(sim_bench);

@@ -12,21 +12,23 @@
 
 namespace scancrew::msg {
 
-// A TSDF voxel: truncated signed distance (m) and accumulated weight.
-struct TsdfVoxel {
-  float distance_m = 0;
-  float weight = 0;
-};
-
-// One patch of a robot's manifold map: a dense block of voxels in the patch's own frame.
+// One patch of a robot's manifold map (thesis 4.4.1): the blocks a few consecutive depth
+// maps observed, in the compact wire format of components/tsdf/patch_codec.hpp (observed
+// blocks only, quantised distance and weight, zstd with a content checksum). The voxels stay
+// on the world lattice (block coordinates in the world frame); T_world_patch, the pose of
+// the patch's first depth map, is the patch's frame, kept for map deformation.
 struct TsdfPatch {
   static constexpr const char* kTypeName = "scancrew/TsdfPatch";
   Header header;
-  uint64_t patch_id = 0;  // (robot id << 32) | local counter
+  uint64_t patch_id = 0;  // (robot_id << 32) | index
+  uint32_t robot_id = 0;  // the robot whose depth maps built the patch
+  uint32_t index = 0;     // the patch's number among that robot's patches
   Pose3 T_world_patch;
   double voxel_size_m = 0;
-  uint32_t size_x = 0, size_y = 0, size_z = 0;
-  std::vector<TsdfVoxel> voxels;  // size_x*size_y*size_z, x fastest
+  double truncation_m = 0;    // μ: the distances are quantised over [−μ, μ]
+  uint32_t block_count = 0;   // blocks in the payload
+  uint32_t raw_bytes = 0;     // payload size before compression
+  std::vector<uint8_t> data;  // the zstd-compressed payload
 };
 
 // The IDs of the patches a robot holds (broadcast so others can ask for the missing).

@@ -19,7 +19,8 @@ namespace scancrew::msg {
 
 // Version of the binary layout of every message (recordings, inter-robot links). A reader
 // refuses data of another version.
-inline constexpr uint32_t kMessageFormatVersion = 1;
+// 2: TsdfPatch carries the compact patch payload instead of a dense voxel array.
+inline constexpr uint32_t kMessageFormatVersion = 2;
 
 // The binding names only label the members; their order is the declaration order.
 #define SCANCREW_MESSAGE_FIELDS(Type, ...)      \
@@ -57,9 +58,8 @@ SCANCREW_MESSAGE_FIELDS(RobotState, header, T_world_body, mode, plan_id, current
                         path_index, steps_remaining, path_length_m)
 SCANCREW_MESSAGE_FIELDS(MissionStatus, header, phase, ise_remaining, coverage_estimate, elapsed_s)
 
-SCANCREW_MESSAGE_FIELDS(TsdfVoxel, distance_m, weight)
-SCANCREW_MESSAGE_FIELDS(TsdfPatch, header, patch_id, T_world_patch, voxel_size_m, size_x, size_y,
-                        size_z, voxels)
+SCANCREW_MESSAGE_FIELDS(TsdfPatch, header, patch_id, robot_id, index, T_world_patch, voxel_size_m,
+                        truncation_m, block_count, raw_bytes, data)
 SCANCREW_MESSAGE_FIELDS(PatchList, header, patch_ids)
 SCANCREW_MESSAGE_FIELDS(PatchRequest, header, from_robot, patch_ids)
 SCANCREW_MESSAGE_FIELDS(IseSet, header, map_version, centers_m, view_directions)

@@ -10,6 +10,7 @@
 // inside one call). A MapSnapshot is immutable and may be read from any number of threads.
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -89,6 +90,9 @@ class TsdfMap {
   uint64_t sequence() const { return sequence_; }
   // Starts an update: blocks written from now on carry the new sequence number.
   uint64_t begin_update() { return ++sequence_; }
+  // Several maps that feed one snapshot (a robot's patches) share one sequence: before an
+  // update, bring this map's counter up to the others'.
+  void advance_sequence_to(uint64_t sequence) { sequence_ = std::max(sequence_, sequence); }
 
   const BlockTable<Block>& blocks() const { return blocks_; }
   size_t block_count() const { return blocks_.size(); }

@@ -64,7 +64,11 @@ TEST(Codec, EveryWireMessageRoundTripsExactly) {
   c.clusters.push_back({.id = 9, .gain = 0.1, .viewpoints = {{{{1, 1, 1}, 0}, {1, 2, 3}}}});
   expect_round_trip(c);
   TsdfPatch patch;
-  patch.voxels = {{0.1F, 2.0F}, {-0.1F, 1.0F}};
+  patch.robot_id = 2;
+  patch.index = 5;
+  patch.patch_id = (uint64_t{2} << 32) | 5;
+  patch.block_count = 1;
+  patch.data = {0x28, 0xb5, 0x2f, 0xfd, 0, 1, 2};
   expect_round_trip(patch);
   // and the values come back, not only the bytes
   StereoFrame back;

@@ -1,0 +1,401 @@
+#include "components/tsdf/tsdf_mapper.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "components/tsdf/mesher.hpp"
+#include "components/tsdf/octomap_export.hpp"
+#include "components/tsdf/patch_codec.hpp"
+#include "components/tsdf/ply_mesh.hpp"
+#include "executors/log.hpp"
+#include "executors/registry.hpp"
+#include "interfaces/eigen_conversions.hpp"
+
+namespace scancrew::tsdf {
+
+namespace {
+
+uint64_t patch_id(uint32_t robot, uint32_t index) {
+  return (static_cast<uint64_t>(robot) << 32) | index;
+}
+
+bool unit_quaternion(const msg::Quat& q) {
+  const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  return std::isfinite(n) && std::abs(n - 1.0) < 1e-6;
+}
+
+}  // namespace
+
+TsdfMapper::Config TsdfMapper::read_config(ParamReader& p) {
+  Config c;
+  p.optional("voxel_m", c.tsdf.voxel_m, {0.005, 10});
+  c.tsdf.truncation_m = 3 * c.tsdf.voxel_m;
+  p.optional("truncation_m", c.tsdf.truncation_m, {0.005, 1000});
+  p.optional("w_th", c.tsdf.w_th, {1e-9, 1e9});
+  p.optional("max_weight", c.tsdf.max_weight, {1e-9, 1e9});
+  p.optional("min_range_m", c.tsdf.min_range_m, {0, 1000});
+  p.optional("max_range_m", c.tsdf.max_range_m, {0.01, 1000});
+  p.choice("weight", c.tsdf.weight, {"inverse_square", "constant"});
+  p.optional("tile_px", c.tsdf.tile_px, {1, 64});
+  if (auto problem = c.tsdf.validate(); !problem.empty()) p.report("voxel_m", problem);
+  p.choice("mode", c.mode, {"single", "centralized", "distributed"});
+  p.optional("patch_frames", c.patch_frames, {1, 100000});
+  p.optional("patch_distance_m", c.patch_distance_m, {0, 1e6});
+  p.optional("snapshot_every", c.snapshot_every, {1, 100000});
+  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
+  p.optional("request_delay_s", c.request_delay_s, {0, 3600});
+  p.optional("request_retry_s", c.request_retry_s, {0.01, 3600});
+  p.optional("compression_level", c.compression_level, {1, 19});
+  p.optional("depth_queue_depth", c.depth_queue_depth, {1, 1000});
+  p.optional("mesh_path", c.mesh_path);
+  p.choice("mesh_colour", c.mesh_colour, {"owner", "none"});
+  p.optional("octomap_path", c.octomap_path);
+  return c;
+}
+
+TsdfMapper::TsdfMapper(ComponentContext context, Config config)
+    : Component(std::move(context)),
+      config_(std::move(config)),
+      integrator_(config_.tsdf),
+      global_(config_.tsdf),
+      current_(config_.tsdf) {}
+
+TsdfMapper::~TsdfMapper() = default;
+
+Result<void, std::string> TsdfMapper::on_configure() {
+  map_ = create_publisher<MapUpdate>("map", {.pool_size = 4});
+  const auto on_depth_sample = [this](Sample<msg::DepthImage>&& s) { on_depth(*s); };
+  if (config_.mode == "centralized") {
+    if (team().empty())
+      return make_unexpected(std::string("mode centralized needs the robots: section"));
+    for (const TeamMember& m : team())
+      create_subscription<msg::DepthImage>("/" + m.ns + "/depth",
+                                           {.depth = config_.depth_queue_depth}, on_depth_sample);
+    return {};
+  }
+  create_subscription<msg::DepthImage>("depth", {.depth = config_.depth_queue_depth},
+                                       on_depth_sample);
+  if (config_.mode != "distributed") return {};
+
+  patch_ = create_publisher<msg::TsdfPatch>("patch", {.pool_size = 4});
+  reply_ = create_publisher<msg::TsdfPatch>("patch_reply", {.pool_size = 4});
+  list_ = create_publisher<msg::PatchList>("patch_list", {.pool_size = 2});
+  request_ = create_publisher<msg::PatchRequest>("patch_request", {.pool_size = 2});
+  const char* pose_topic = config_.pose_source == "vio" ? "odom" : "pose_gt";
+  for (const TeamMember& m : team()) {
+    if (m.id == robot_id()) continue;
+    teammates_.push_back({.id = m.id, .ns = m.ns});
+  }
+  for (size_t i = 0; i < teammates_.size(); ++i) {
+    const std::string ns = "/" + teammates_[i].ns + "/";
+    const auto patch_cb = [this](Sample<msg::TsdfPatch>&& s) { on_patch(*s); };
+    create_subscription<msg::TsdfPatch>(ns + "patch", {.depth = 16}, patch_cb);
+    create_subscription<msg::TsdfPatch>(ns + "patch_reply", {.depth = 16}, patch_cb);
+    create_subscription<msg::PatchList>(
+        ns + "patch_list", {.depth = 4},
+        [this, i](Sample<msg::PatchList>&& s) { on_patch_list(teammates_[i].id, *s); });
+    create_subscription<msg::PatchRequest>(
+        ns + "patch_request", {.depth = 8},
+        [this](Sample<msg::PatchRequest>&& s) { on_request(*s); });
+    create_subscription<msg::Odometry>(
+        ns + pose_topic, {.depth = 2}, [this, i](Sample<msg::Odometry>&& s) {
+          if (s->tracking_quality <= 0) return;
+          teammates_[i].position = msg::to_eigen(s->T_world_body.position);
+          teammates_[i].has_position = true;
+        });
+  }
+  const auto period = std::chrono::nanoseconds(
+      std::llround(std::min(config_.request_delay_s, config_.request_retry_s) * 0.5e9 + 1e7));
+  create_timer(period, [this] { check_missing(); });
+  return {};
+}
+
+void TsdfMapper::on_deactivate() {
+  const TsdfMapperStats& s = stats_;
+  SCANCREW_LOG_INFO("%s: %llu depth images integrated (%.2f ms mean, %.2f max), %llu refused",
+                    qualified_name().c_str(), static_cast<unsigned long long>(s.integrated),
+                    s.integrated > 0 ? s.integrate_ms_sum / static_cast<double>(s.integrated) : 0.0,
+                    s.integrate_ms_max, static_cast<unsigned long long>(s.rejected_frames));
+  if (config_.mode == "distributed")
+    SCANCREW_LOG_INFO(
+        "%s: patches: %llu made (%.1f kB each on the wire, 1/%.1f of raw float blocks), %llu "
+        "received, %llu refused, %llu requested, %llu replies sent",
+        qualified_name().c_str(), static_cast<unsigned long long>(s.patches_made),
+        s.patches_made > 0
+            ? static_cast<double>(s.patch_wire_bytes) / 1e3 / static_cast<double>(s.patches_made)
+            : 0.0,
+        s.patch_wire_bytes > 0
+            ? static_cast<double>(s.patch_raw_bytes) / static_cast<double>(s.patch_wire_bytes)
+            : 0.0,
+        static_cast<unsigned long long>(s.patches_received),
+        static_cast<unsigned long long>(s.patches_rejected),
+        static_cast<unsigned long long>(s.requests_sent),
+        static_cast<unsigned long long>(s.replies_sent));
+  write_outputs();
+}
+
+void TsdfMapper::write_outputs() {
+  if (config_.mesh_path.empty() && config_.octomap_path.empty()) return;
+  const auto snap = snapshot();
+  if (!config_.mesh_path.empty()) {
+    Mesher mesher;
+    mesher.full(*snap);
+    const Mesh mesh = mesher.assemble(Weld::kAcrossBlocks);
+    const auto written =
+        write_ply(mesh, config_.mesh_path,
+                  config_.mesh_colour == "owner" ? PlyColour::kByOwner : PlyColour::kNone);
+    if (written)
+      SCANCREW_LOG_INFO("%s: wrote %s (%zu triangles)", qualified_name().c_str(),
+                        config_.mesh_path.c_str(), mesh.triangles.size());
+    else
+      SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), written.error().c_str());
+  }
+  if (!config_.octomap_path.empty()) {
+    const auto written = write_octomap(*snap, config_.octomap_path);
+    if (written)
+      SCANCREW_LOG_INFO("%s: wrote %s", qualified_name().c_str(), config_.octomap_path.c_str());
+    else
+      SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), written.error().c_str());
+  }
+}
+
+void TsdfMapper::on_depth(const msg::DepthImage& depth) {
+  ++stats_.frames;
+  DepthFrame frame;
+  frame.depth_m = depth.depth_m.data();
+  frame.size = depth.depth_m.size();
+  frame.width = depth.intrinsics.width;
+  frame.height = depth.intrinsics.height;
+  frame.fx = depth.intrinsics.fx;
+  frame.fy = depth.intrinsics.fy;
+  frame.cx = depth.intrinsics.cx;
+  frame.cy = depth.intrinsics.cy;
+  const bool pose_ok = unit_quaternion(depth.T_world_cam.orientation);
+  if (pose_ok) frame.T_world_cam = msg::to_eigen(depth.T_world_cam);
+  const std::string problem = pose_ok ? check_frame(frame) : "camera pose quaternion is not unit";
+  if (!problem.empty()) {
+    ++stats_.rejected_frames;
+    if (!logged_[0]) {
+      logged_[0] = true;
+      SCANCREW_LOG_WARN("%s: depth image at t = %.3f s skipped: %s (further ones are counted)",
+                        qualified_name().c_str(), static_cast<double>(depth.header.stamp_ns) * 1e-9,
+                        problem.c_str());
+    }
+    return;
+  }
+  const bool distributed = config_.mode == "distributed";
+  const Eigen::Vector3d position = frame.T_world_cam.translation();
+  own_position_ = position;
+  if (distributed && current_frames_ == 0) {
+    current_anchor_ = frame.T_world_cam;
+    current_travel_m_ = 0;
+  } else if (have_last_position_) {
+    current_travel_m_ += (position - last_position_).norm();
+  }
+  last_position_ = position;
+  have_last_position_ = true;
+
+  const auto t0 = std::chrono::steady_clock::now();
+  current_.advance_sequence_to(global_.sequence());
+  auto integrated = integrator_.integrate(distributed ? current_ : global_, frame);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (!integrated) {  // check_frame passed, so this is a configuration mismatch
+    ++stats_.rejected_frames;
+    SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), integrated.error().c_str());
+    return;
+  }
+  ++stats_.integrated;
+  stats_.integrate_ms_sum += ms;
+  stats_.integrate_ms_max = std::max(stats_.integrate_ms_max, ms);
+  last_stamp_ns_ = depth.header.stamp_ns;
+  if (distributed) {
+    ++current_frames_;
+    if (current_frames_ >= config_.patch_frames ||
+        (config_.patch_distance_m > 0 && current_travel_m_ >= config_.patch_distance_m))
+      complete_patch();
+  }
+  if (++frames_since_snapshot_ >= config_.snapshot_every) {
+    frames_since_snapshot_ = 0;
+    publish_snapshot(depth.header.stamp_ns);
+  }
+}
+
+void TsdfMapper::complete_patch() {
+  const uint32_t index = next_patch_index_++;
+  Held held;
+  held.own = true;
+  msg::TsdfPatch& p = held.patch;
+  p.patch_id = patch_id(robot_id(), index);
+  p.robot_id = robot_id();
+  p.index = index;
+  p.T_world_patch = msg::to_msg(current_anchor_);
+  auto encoded = encode_patch(current_.blocks(), config_.tsdf, p, config_.compression_level);
+  if (!encoded) {
+    SCANCREW_LOG_ERROR("%s: patch %u not encoded: %s", qualified_name().c_str(), index,
+                       encoded.error().c_str());
+  } else {
+    stats_.patch_wire_bytes += encoded->wire_bytes;
+    stats_.patch_raw_bytes += encoded->raw_float_bytes;
+    ++stats_.patches_made;
+    p.header.stamp_ns = last_stamp_ns_;
+    // fused as the teammates will fuse it (quantised): every robot holding the same
+    // patches has the same global estimate, bit for bit
+    global_.advance_sequence_to(current_.sequence());
+    if (auto own = decode_patch(p, config_.tsdf)) {
+      fuse_blocks(global_, *own);
+    } else {
+      SCANCREW_LOG_ERROR("%s: own patch %u does not decode (%s): fused unquantised",
+                         qualified_name().c_str(), index, own.error().c_str());
+      fuse_map(global_, current_.blocks(), robot_id());
+    }
+    if (auto loan = patch_.loan()) {
+      **loan = p;
+      (void)patch_.publish(std::move(*loan));
+    }
+    held_.emplace(p.patch_id, std::move(held));
+    publish_list();
+  }
+  current_.clear();
+  current_frames_ = 0;
+}
+
+void TsdfMapper::on_patch(const msg::TsdfPatch& patch) {
+  if (held_.contains(patch.patch_id) || patch.robot_id == robot_id()) {
+    ++stats_.duplicates;
+    return;
+  }
+  auto decoded = decode_patch(patch, config_.tsdf);
+  if (!decoded) {
+    ++stats_.patches_rejected;
+    if (!logged_[1]) {
+      logged_[1] = true;
+      SCANCREW_LOG_WARN("%s: patch %u.%u from robot %u refused: %s (further ones are counted)",
+                        qualified_name().c_str(), patch.robot_id, patch.index,
+                        patch.header.robot_id, decoded.error().c_str());
+    }
+    return;
+  }
+  global_.advance_sequence_to(current_.sequence());
+  fuse_blocks(global_, *decoded);
+  ++stats_.patches_received;
+  held_.emplace(patch.patch_id, Held{patch, false});
+  missing_since_ns_.erase(patch.patch_id);
+  last_request_ns_.erase(patch.patch_id);
+  publish_list();
+  publish_snapshot(last_stamp_ns_);
+}
+
+void TsdfMapper::on_patch_list(uint32_t from, const msg::PatchList& list) {
+  for (Teammate& t : teammates_)
+    if (t.id == from) t.holds = {list.patch_ids.begin(), list.patch_ids.end()};
+  const int64_t now = clock().now_ns();
+  for (uint64_t id : list.patch_ids)
+    if (!held_.contains(id) && static_cast<uint32_t>(id >> 32) != robot_id())
+      missing_since_ns_.try_emplace(id, now);
+}
+
+void TsdfMapper::check_missing() {
+  if (missing_since_ns_.empty()) return;
+  const int64_t now = clock().now_ns();
+  const auto delay = static_cast<int64_t>(config_.request_delay_s * 1e9);
+  const auto retry = static_cast<int64_t>(config_.request_retry_s * 1e9);
+  std::vector<uint64_t> wanted;
+  for (const auto& [id, since] : missing_since_ns_) {
+    if (now - since < delay) continue;
+    const auto last = last_request_ns_.find(id);
+    if (last != last_request_ns_.end() && now - last->second < retry) continue;
+    wanted.push_back(id);
+    last_request_ns_[id] = now;
+  }
+  if (wanted.empty()) return;
+  auto loan = request_.loan();
+  if (!loan) return;
+  (*loan)->header.stamp_ns = now;
+  (*loan)->from_robot = robot_id();
+  (*loan)->patch_ids = std::move(wanted);
+  stats_.requests_sent += (*loan)->patch_ids.size();
+  (void)request_.publish(std::move(*loan));
+}
+
+Eigen::Vector3d TsdfMapper::position_of(uint32_t robot) const {
+  if (robot == robot_id()) return own_position_;
+  for (const Teammate& t : teammates_)
+    if (t.id == robot) return t.position;
+  return Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+}
+
+void TsdfMapper::on_request(const msg::PatchRequest& request) {
+  const Eigen::Vector3d asker = position_of(request.from_robot);
+  for (uint64_t id : request.patch_ids) {
+    const auto it = held_.find(id);
+    if (it == held_.end()) continue;
+    // of the robots known to hold it (the asker aside), the nearest to the asker answers;
+    // ties go to the lower robot id
+    double best = (position_of(robot_id()) - asker).norm();
+    bool mine = true;
+    for (const Teammate& t : teammates_) {
+      if (t.id == request.from_robot || !t.holds.contains(id) || !t.has_position) continue;
+      const double d = (t.position - asker).norm();
+      if (d < best || (d == best && t.id < robot_id())) {
+        mine = false;
+        break;
+      }
+    }
+    if (!mine) continue;
+    if (auto loan = reply_.loan()) {
+      **loan = it->second.patch;
+      (void)reply_.publish(std::move(*loan));
+      ++stats_.replies_sent;
+    }
+  }
+}
+
+void TsdfMapper::publish_list() {
+  auto loan = list_.loan();
+  if (!loan) return;
+  (*loan)->header.stamp_ns = last_stamp_ns_;
+  (*loan)->patch_ids.clear();
+  for (const auto& [id, held] : held_) (*loan)->patch_ids.push_back(id);
+  (void)list_.publish(std::move(*loan));
+}
+
+std::shared_ptr<const MapSnapshot> TsdfMapper::snapshot() const {
+  if (current_.block_count() == 0) return global_.snapshot();
+  // global ⊕ current: the current patch's blocks fused onto copies of the global ones
+  BlockTable<const Block> table;
+  table.reserve(global_.block_count() + current_.block_count());
+  for (const auto& [index, block] : global_.blocks()) table.emplace(index, block);
+  const auto max_weight = static_cast<float>(config_.tsdf.max_weight);
+  for (const auto& [index, block] : current_.blocks()) {
+    auto merged = std::make_shared<Block>();
+    if (const Block* g = global_.find(index)) *merged = *g;
+    fuse_block(*merged, *block, max_weight, robot_id());
+    merged->modified = std::max(merged->modified, block->modified);
+    table[index] = std::move(merged);
+  }
+  return std::make_shared<const MapSnapshot>(
+      config_.tsdf, std::max(global_.sequence(), current_.sequence()), std::move(table));
+}
+
+void TsdfMapper::publish_snapshot(int64_t stamp_ns) {
+  auto loan = map_.loan();
+  if (!loan) return;
+  (*loan)->header.stamp_ns = stamp_ns;
+  (*loan)->map = snapshot();
+  (*loan)->frames_integrated = stats_.integrated;
+  (*loan)->patches = static_cast<uint32_t>(held_.size());
+  ++stats_.snapshots;
+  (void)map_.publish(std::move(*loan));
+}
+
+std::vector<uint64_t> TsdfMapper::held_patches() const {
+  std::vector<uint64_t> ids;
+  for (const auto& [id, held] : held_) ids.push_back(id);
+  return ids;
+}
+
+SCANCREW_REGISTER_COMPONENT(TsdfMapper, "tsdf_mapper")
+
+}  // namespace scancrew::tsdf

@@ -1,0 +1,246 @@
+#include "eval/triangle_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace scancrew::eval {
+
+namespace {
+
+Point3 sub(const Point3& a, const Point3& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+Point3 add_scaled(const Point3& a, const Point3& d, double s) {
+  return {a[0] + s * d[0], a[1] + s * d[1], a[2] + s * d[2]};
+}
+double dot(const Point3& a, const Point3& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+double distance2(const Point3& a, const Point3& b) {
+  const Point3 d = sub(a, b);
+  return dot(d, d);
+}
+
+Point3 closest_point_on_segment(const Point3& p, const Point3& a, const Point3& b) {
+  const Point3 ab = sub(b, a);
+  const double len2 = dot(ab, ab);
+  if (!(len2 > 0)) return a;
+  return add_scaled(a, ab, std::clamp(dot(sub(p, a), ab) / len2, 0.0, 1.0));
+}
+
+// float bounds that contain the double ones, so that a box test on them never rejects a
+// triangle that is within reach
+float round_down(double x) {
+  const auto f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity())
+                                    : f;
+}
+float round_up(double x) {
+  const auto f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+Point3 corner(const std::array<double, 9>& c, size_t i) {
+  return {c[3 * i], c[3 * i + 1], c[3 * i + 2]};
+}
+
+}  // namespace
+
+// Ericson 5.1.5: find the Voronoi region of the triangle (vertex, edge or face) holding p
+// from dot products only, then project onto that feature.
+Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3& b,
+                                 const Point3& c) {
+  const Point3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Point3 bp = sub(p, b);
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return add_scaled(a, ab, d1 / (d1 - d3));
+  const Point3 cp = sub(p, c);
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return add_scaled(a, ac, d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return add_scaled(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double area2 = va + vb + vc;  // |ab × ac|²
+  if (!(area2 > 0)) {
+    // a degenerate triangle (rounding put p in no region): its nearest edge
+    Point3 best = closest_point_on_segment(p, a, b);
+    for (const Point3& q : {closest_point_on_segment(p, b, c), closest_point_on_segment(p, c, a)})
+      if (distance2(p, q) < distance2(p, best)) best = q;
+    return best;
+  }
+  return add_scaled(add_scaled(a, ab, vb / area2), ac, vc / area2);
+}
+
+template <class F>
+void TriangleGrid::for_each_cell(size_t t, F&& f) const {
+  // the radius grown a little so that rounding cannot drop a cell at exactly r
+  const double reach = radius_m_ * (1 + 1e-6) + 1e-9;
+  const auto& c = corners_[t];
+  std::array<int64_t, 3> first{}, last{};
+  for (int k = 0; k < 3; ++k) {
+    const double lo = std::min({c[k], c[3 + k], c[6 + k]}) - reach;
+    const double hi = std::max({c[k], c[3 + k], c[6 + k]}) + reach;
+    const auto cell = [&](double x) {
+      return std::clamp(static_cast<int64_t>(std::floor((x - origin_[k]) / cell_m_)), int64_t{0},
+                        dims_[k] - 1);
+    };
+    first[k] = cell(lo);
+    last[k] = cell(hi);
+  }
+  // a triangle whose box spans many cells (a large wall) lists only the cells whose centre is
+  // within reach + half a cell diagonal of it: any point within r of it lies in one of them
+  const int64_t spanned =
+      (last[0] - first[0] + 1) * (last[1] - first[1] + 1) * (last[2] - first[2] + 1);
+  const bool filter = spanned > 27;
+  const double keep2 = std::pow(reach + cell_m_ * std::sqrt(3.0) / 2, 2);
+  const Point3 a = corner(c, 0), b = corner(c, 1), cc = corner(c, 2);
+  for (int64_t z = first[2]; z <= last[2]; ++z)
+    for (int64_t y = first[1]; y <= last[1]; ++y)
+      for (int64_t x = first[0]; x <= last[0]; ++x) {
+        if (filter) {
+          const Point3 centre{origin_[0] + (static_cast<double>(x) + 0.5) * cell_m_,
+                              origin_[1] + (static_cast<double>(y) + 0.5) * cell_m_,
+                              origin_[2] + (static_cast<double>(z) + 0.5) * cell_m_};
+          if (distance2(centre, closest_point_on_triangle(centre, a, b, cc)) > keep2) continue;
+        }
+        f(static_cast<size_t>((z * dims_[1] + y) * dims_[0] + x));
+      }
+}
+
+Result<TriangleGrid, std::string> TriangleGrid::build(const sim::TriangleMesh& mesh,
+                                                      double radius_m, size_t max_cells) {
+  if (!(radius_m > 0) || !std::isfinite(radius_m))
+    return make_unexpected("the search radius must be positive and finite, not " +
+                           std::to_string(radius_m));
+  max_cells = std::max<size_t>(max_cells, 1);
+  TriangleGrid g;
+  g.radius_m_ = radius_m;
+  g.cell_m_ = 2 * radius_m;
+  const size_t n = mesh.triangles.size();
+  if (n == 0) return g;
+  if (n > std::numeric_limits<uint32_t>::max())
+    return make_unexpected("the mesh has " + std::to_string(n) + " triangles, more than 2^32");
+
+  // per-triangle corners and float bounds; the mesh's bounding box
+  g.corners_.resize(n);
+  g.bounds_.resize(n);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Point3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+  for (size_t t = 0; t < n; ++t) {
+    auto& c = g.corners_[t];
+    for (size_t i = 0; i < 3; ++i) {
+      const msg::Vec3& v = mesh.vertices[mesh.triangles[t][i]];
+      c[3 * i] = v.x;
+      c[3 * i + 1] = v.y;
+      c[3 * i + 2] = v.z;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const double t_lo = std::min({c[k], c[3 + k], c[6 + k]});
+      const double t_hi = std::max({c[k], c[3 + k], c[6 + k]});
+      g.bounds_[t][k] = round_down(t_lo);
+      g.bounds_[t][3 + k] = round_up(t_hi);
+      lo[k] = std::min(lo[k], t_lo);
+      hi[k] = std::max(hi[k], t_hi);
+    }
+  }
+
+  // the grid: cells of 2 r over the mesh's box grown by r, larger if there would be too many
+  const double pad = radius_m * 1.001;
+  double volume = 1;
+  for (int k = 0; k < 3; ++k) {
+    g.origin_[k] = lo[k] - pad;
+    volume *= hi[k] - lo[k] + 2 * pad;
+  }
+  g.cell_m_ = std::max(g.cell_m_, std::cbrt(volume / static_cast<double>(max_cells)));
+  for (;;) {
+    size_t cells = 1;
+    for (int k = 0; k < 3; ++k) {
+      g.dims_[k] = std::max<int64_t>(
+          1, static_cast<int64_t>(std::ceil((hi[k] - lo[k] + 2 * pad) / g.cell_m_)));
+      cells *= static_cast<size_t>(g.dims_[k]);
+    }
+    if (cells <= max_cells) break;
+    g.cell_m_ *= 1.05;
+  }
+  const auto cells = static_cast<size_t>(g.dims_[0] * g.dims_[1] * g.dims_[2]);
+
+  // triangles renumbered in the order of the cells holding their first corners: the triangles
+  // one query tests then lie close together in memory (3x faster on a shuffled mesh)
+  std::vector<std::pair<size_t, uint32_t>> order(n);
+  for (size_t t = 0; t < n; ++t) {
+    size_t cell = 0;
+    for (int k = 2; k >= 0; --k)
+      cell = cell * static_cast<size_t>(g.dims_[k]) +
+             static_cast<size_t>(
+                 std::clamp(static_cast<int64_t>((g.corners_[t][k] - g.origin_[k]) / g.cell_m_),
+                            int64_t{0}, g.dims_[k] - 1));
+    order[t] = {cell, static_cast<uint32_t>(t)};
+  }
+  std::sort(order.begin(), order.end());
+  g.original_.resize(n);
+  std::vector<std::array<double, 9>> corners(n);
+  std::vector<std::array<float, 6>> bounds(n);
+  for (size_t t = 0; t < n; ++t) {
+    g.original_[t] = order[t].second;
+    corners[t] = g.corners_[order[t].second];
+    bounds[t] = g.bounds_[order[t].second];
+  }
+  g.corners_ = std::move(corners);
+  g.bounds_ = std::move(bounds);
+
+  // counting sort of (cell, triangle): count, prefix sum, fill in triangle order
+  std::vector<uint64_t> counts(cells + 1, 0);
+  for (size_t t = 0; t < n; ++t) g.for_each_cell(t, [&](size_t cell) { ++counts[cell + 1]; });
+  for (size_t i = 1; i <= cells; ++i) counts[i] += counts[i - 1];
+  if (counts[cells] > std::numeric_limits<uint32_t>::max())
+    return make_unexpected("the mesh needs " + std::to_string(counts[cells]) +
+                           " grid entries, more than 2^32 (too many triangles for this radius)");
+  g.offsets_.assign(counts.begin(), counts.end());
+  g.entries_.resize(counts[cells]);
+  for (size_t t = 0; t < n; ++t)
+    g.for_each_cell(t, [&](size_t cell) { g.entries_[counts[cell]++] = static_cast<uint32_t>(t); });
+  return g;
+}
+
+std::optional<NearestPoint> TriangleGrid::nearest(const Point3& p) const {
+  if (offsets_.empty()) return std::nullopt;
+  int64_t cell = 0;
+  for (int k = 2; k >= 0; --k) {
+    const double x = (p[k] - origin_[k]) / cell_m_;
+    if (!(x >= 0) || x >= static_cast<double>(dims_[k])) return std::nullopt;  // NaN too
+    cell = cell * dims_[k] + static_cast<int64_t>(x);
+  }
+  std::optional<NearestPoint> best;
+  double best2 = radius_m_ * radius_m_;
+  const auto c = static_cast<size_t>(cell);
+  for (size_t e = offsets_[c]; e < offsets_[c + 1]; ++e) {
+    const uint32_t t = entries_[e];
+    const auto& box = bounds_[t];
+    double box2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      // branch-free: which side p lies on is unpredictable, and this loop is the query's cost
+      const double out = std::max(
+          {static_cast<double>(box[k]) - p[k], p[k] - static_cast<double>(box[3 + k]), 0.0});
+      box2 += out * out;
+    }
+    if (box2 > best2) continue;
+    const auto& tc = corners_[t];
+    const Point3 q = closest_point_on_triangle(p, corner(tc, 0), corner(tc, 1), corner(tc, 2));
+    const double d2 = distance2(p, q);
+    if (d2 < best2 || (d2 == best2 && (!best || original_[t] < best->triangle))) {
+      best2 = d2;
+      best = NearestPoint{.triangle = original_[t], .distance_m = std::sqrt(d2), .point = q};
+    }
+  }
+  return best;
+}
+
+}  // namespace scancrew::eval
