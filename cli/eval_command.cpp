@@ -88,8 +88,11 @@ int run_eval(const EvalOptions& o) {
       r->status == eval::EvalStatus::kOk ? "" : ": " + std::string(eval::to_string(r->status));
   std::printf("coverage %.2f %% (%zu of %zu points)%s\n", 100 * r->coverage, r->covered,
               r->gt_points, why.c_str());
-  std::printf("error along the normals: mean %+.4f m, std %.4f m, RMSE %.4f m (%.2f s)\n",
-              r->mean_error_m, r->std_error_m, r->rmse_m, eval_s);
+  if (r->covered == 0)
+    std::printf("error along the normals: undefined, no point covered (%.2f s)\n", eval_s);
+  else
+    std::printf("error along the normals: mean %+.4f m, std %.4f m, RMSE %.4f m (%.2f s)\n",
+                r->mean_error_m, r->std_error_m, r->rmse_m, eval_s);
   return 0;
 }
 
