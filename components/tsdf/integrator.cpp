@@ -13,9 +13,10 @@ namespace {
 
 bool rigid(const Eigen::Isometry3d& T) {
   if (!T.matrix().allFinite()) return false;
-  const Eigen::Matrix3d R = T.linear();
-  return (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6 &&
-         std::abs(R.determinant() - 1.0) < 1e-6;
+  const Eigen::Matrix3d rotation = T.linear();
+  return (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <
+             1e-6 &&
+         std::abs(rotation.determinant() - 1.0) < 1e-6;
 }
 
 struct BlockWork {
@@ -130,7 +131,7 @@ Result<IntegrationStats, std::string> Integrator::integrate(TsdfMap& map, const 
     work[i].fresh = map.find(candidates_[i]) == nullptr;
     work[i].block = &map.touch(candidates_[i]);
   }
-  const Eigen::Matrix3f R = T_cam_world.linear().cast<float>();
+  const Eigen::Matrix3f rotation = T_cam_world.linear().cast<float>();
   const Eigen::Vector3f t = T_cam_world.translation().cast<float>();
   const auto s = static_cast<float>(config_.voxel_m);
   const auto fx = static_cast<float>(f.fx), fy = static_cast<float>(f.fy);
@@ -138,7 +139,7 @@ Result<IntegrationStats, std::string> Integrator::integrate(TsdfMap& map, const 
   const auto w_max = static_cast<float>(config_.max_weight);
   const bool inverse_square = config_.weight == "inverse_square";
   const auto width = static_cast<int>(f.width), height = static_cast<int>(f.height);
-  const Eigen::Vector3f dx = R.col(0) * s;
+  const Eigen::Vector3f dx = rotation.col(0) * s;
 
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, work.size(), 2), [&](const tbb::blocked_range<size_t>& r) {
@@ -149,7 +150,9 @@ Result<IntegrationStats, std::string> Integrator::integrate(TsdfMap& map, const 
           uint32_t updated = 0;
           for (int z = 0; z < kBlockSide; ++z)
             for (int y = 0; y < kBlockSide; ++y) {
-              Eigen::Vector3f p = R * (origin + Eigen::Vector3f(0, y * s, z * s)) + t;
+              Eigen::Vector3f p = rotation * (origin + Eigen::Vector3f(0, static_cast<float>(y) * s,
+                                                                       static_cast<float>(z) * s)) +
+                                  t;
               Voxel* voxel = &bw.block->at(0, y, z);
               for (int x = 0; x < kBlockSide; ++x, p += dx, ++voxel) {
                 if (p.z() <= 0) continue;

@@ -7,6 +7,7 @@
 #include "components/tsdf/mesher.hpp"
 #include "components/tsdf/octomap_export.hpp"
 #include "components/tsdf/patch_codec.hpp"
+#include "components/tsdf/patch_fusion.hpp"
 #include "components/tsdf/ply_mesh.hpp"
 #include "executors/log.hpp"
 #include "executors/registry.hpp"

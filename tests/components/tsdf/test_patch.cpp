@@ -17,6 +17,7 @@
 
 #include "components/tsdf/integrator.hpp"
 #include "components/tsdf/patch_codec.hpp"
+#include "components/tsdf/patch_fusion.hpp"
 #include "components/tsdf/tsdf_map.hpp"
 #include "interfaces/codec.hpp"
 
