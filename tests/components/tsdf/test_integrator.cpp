@@ -10,47 +10,15 @@
 
 #include "components/tsdf/integrator.hpp"
 #include "components/tsdf/tsdf_map.hpp"
+#include "tests/components/tsdf/synthetic_depth.hpp"
 
 namespace scancrew::tsdf {
 namespace {
 
-constexpr uint32_t kW = 160, kH = 120;
-constexpr double kF = 80.0;  // 90° horizontal FOV
-
-// A camera at the origin looking along +x (z forward in the camera frame).
-Eigen::Isometry3d looking_along_x(const Eigen::Vector3d& position) {
-  Eigen::Matrix3d R;
-  R.col(0) = Eigen::Vector3d(0, -1, 0);  // camera x: right
-  R.col(1) = Eigen::Vector3d(0, 0, -1);  // camera y: down
-  R.col(2) = Eigen::Vector3d(1, 0, 0);   // camera z: forward
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = R;
-  T.translation() = position;
-  return T;
-}
-
-// Depth of a wall x = wall_x seen from a camera looking along +x: z = wall_x − camera x.
-// Optionally a step: pixels with u ≥ step_u see a nearer wall.
-std::vector<float> wall_depth(double z, double step_u = kW, double z_near = 0) {
-  std::vector<float> d(static_cast<size_t>(kW) * kH, static_cast<float>(z));
-  for (uint32_t v = 0; v < kH; ++v)
-    for (uint32_t u = 0; u < kW; ++u)
-      if (u >= step_u) d[v * kW + u] = static_cast<float>(z_near);
-  return d;
-}
-
-DepthFrame frame(const std::vector<float>& depth, const Eigen::Isometry3d& T_world_cam) {
-  DepthFrame f;
-  f.depth_m = depth.data();
-  f.size = depth.size();
-  f.width = kW;
-  f.height = kH;
-  f.fx = f.fy = kF;
-  f.cx = kW / 2.0;
-  f.cy = kH / 2.0;
-  f.T_world_cam = T_world_cam;
-  return f;
-}
+using test::frame;
+using test::kW;
+using test::looking_along_x;
+using test::wall_depth;
 
 // The reference: every voxel of [lo, hi) (global voxel indices), the equations written
 // out plainly in double precision.

@@ -27,6 +27,7 @@
 #include "components/tsdf/octomap_export.hpp"
 #include "components/tsdf/ply_mesh.hpp"
 #include "components/tsdf/tsdf_map.hpp"
+#include "tests/components/tsdf/synthetic_depth.hpp"
 
 namespace scancrew::tsdf {
 namespace {
@@ -127,26 +128,13 @@ TsdfMap box_map(const Box& box, double voxel_m = 0.05) {
   return map;
 }
 
-// A camera looking along +x from the origin (z forward in the camera frame), 160×120 with
-// a 90° horizontal field of view, seeing the wall x = wall_x everywhere.
-constexpr uint32_t kW = 160, kH = 120;
-constexpr double kF = 80.0;
+using test::kF;
+using test::kH;
+using test::kW;
 
+// The camera at the origin looking along +x (synthetic_depth.hpp).
 DepthFrame wall_frame(const std::vector<float>& depth) {
-  Eigen::Matrix3d rotation;
-  rotation.col(0) = Eigen::Vector3d(0, -1, 0);
-  rotation.col(1) = Eigen::Vector3d(0, 0, -1);
-  rotation.col(2) = Eigen::Vector3d(1, 0, 0);
-  DepthFrame f;
-  f.depth_m = depth.data();
-  f.size = depth.size();
-  f.width = kW;
-  f.height = kH;
-  f.fx = f.fy = kF;
-  f.cx = kW / 2.0;
-  f.cy = kH / 2.0;
-  f.T_world_cam.linear() = rotation;
-  return f;
+  return test::frame(depth);
 }
 
 // --- mesh measures -----------------------------------------------------------------------

@@ -201,15 +201,21 @@ TEST(TsdfMapper, TwoRobotsExchangeEveryPatch) {
   EXPECT_EQ(d.state_differs, 0u);
 }
 
+// The two robots with robot 1's patches going through a test_patch_link with these params.
+std::unique_ptr<Launch> run_with_link(const std::string& link_params) {
+  std::string text = launch_text(
+      8.0, kTwoRobots +
+               "  - {name: link, type: test_patch_link, remap: {in: patch_raw, out: patch}, "
+               "params: " +
+               link_params + "}\n");
+  const std::string from = "  - name: mapper\n    type: tsdf_mapper\n";
+  text.replace(text.find(from), from.size(), from + "    remap: {patch: patch_raw}\n");
+  return run(text);
+}
+
 TEST(TsdfMapper, ALostPatchIsRecoveredByRequest) {
   // robot 1's patch 2 never arrives: robot 2 sees it in robot 1's list and asks for it
-  const std::string text = launch_text(8.0, kTwoRobots + R"(
-  - {name: link, type: test_patch_link, remap: {in: patch_raw, out: patch}, params: {drop_index: 2}}
-)");
-  std::string patched = text;
-  const std::string from = "  - name: mapper\n    type: tsdf_mapper\n";
-  patched.replace(patched.find(from), from.size(), from + "    remap: {patch: patch_raw}\n");
-  auto launch = run(patched);
+  auto launch = run_with_link("{drop_index: 2}");
   ASSERT_TRUE(launch);
   auto m = mappers(*launch);
   ASSERT_EQ(m.size(), 2u);
@@ -225,13 +231,7 @@ TEST(TsdfMapper, ALostPatchIsRecoveredByRequest) {
 }
 
 TEST(TsdfMapper, ACorruptPatchIsRefusedThenRecovered) {
-  const std::string text = launch_text(8.0, kTwoRobots + R"(
-  - {name: link, type: test_patch_link, remap: {in: patch_raw, out: patch}, params: {corrupt_index: 1}}
-)");
-  std::string patched = text;
-  const std::string from = "  - name: mapper\n    type: tsdf_mapper\n";
-  patched.replace(patched.find(from), from.size(), from + "    remap: {patch: patch_raw}\n");
-  auto launch = run(patched);
+  auto launch = run_with_link("{corrupt_index: 1}");
   ASSERT_TRUE(launch);
   auto m = mappers(*launch);
   ASSERT_EQ(m.size(), 2u);
