@@ -49,7 +49,7 @@ void gather(const MapSnapshot& snap, const BlockIndex& index, float min_weight, 
           for (int y = lo(oy); y < hi(oy); ++y)
             for (int x = lo(ox); x < hi(ox); ++x) {
               const Voxel& v = block->at(x, y, z);
-              if (!(v.weight >= min_weight)) continue;
+              if (!(v.weight > 0 && v.weight >= min_weight)) continue;
               grid[static_cast<size_t>(grid_index(ox * kBlockSide + x + 1, oy * kBlockSide + y + 1,
                                                   oz * kBlockSide + z + 1))] = v.distance_m;
             }
@@ -193,10 +193,6 @@ BlockMesh mesh_block(const MapSnapshot& snap, const BlockIndex& index, float min
   return mesh;
 }
 
-float Mesher::min_weight(const MapSnapshot& snap) const {
-  return static_cast<float>(config_.min_weight > 0 ? config_.min_weight : snap.config().w_th);
-}
-
 void Mesher::clear() {
   blocks_.clear();
   stats_ = {};
@@ -205,7 +201,7 @@ void Mesher::clear() {
 }
 
 void Mesher::remesh(const MapSnapshot& snap, std::vector<BlockIndex> indices) {
-  const float w = min_weight(snap);
+  const auto w = static_cast<float>(config_.min_weight);
   std::vector<BlockMesh> meshes(indices.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, indices.size()),
                     [&](const tbb::blocked_range<size_t>& r) {
@@ -220,7 +216,6 @@ void Mesher::remesh(const MapSnapshot& snap, std::vector<BlockIndex> indices) {
   }
   sequence_ = snap.sequence();
   voxel_m_ = snap.voxel_m();
-  min_weight_ = w;
   meshed_ = true;
 }
 
@@ -239,9 +234,7 @@ MeshStats Mesher::full(const MapSnapshot& snap) {
 }
 
 MeshStats Mesher::update(const MapSnapshot& snap) {
-  if (!meshed_ || snap.sequence() < sequence_ || snap.voxel_m() != voxel_m_ ||
-      min_weight(snap) != min_weight_)
-    return full(snap);
+  if (!meshed_ || snap.sequence() < sequence_ || snap.voxel_m() != voxel_m_) return full(snap);
   const auto start = std::chrono::steady_clock::now();
   stats_ = {};
 

@@ -6,7 +6,7 @@
 // Cubes: a cube joins 8 neighbouring voxel centres; the cube whose min corner is voxel v
 // belongs to v's block, so a block owns 8³ cubes and reads the voxels of its +x, +y, +z
 // neighbours (and their diagonals) for the far corners. A cube is meshed only when all 8
-// corners are observed (weight ≥ min_weight), so no surface is made up at the border of
+// corners are observed (weight > 0 and ≥ min_weight), so no surface is made up at the border of
 // the unknown. Vertices lie on the cube edges where the linearly interpolated distance is
 // zero; a block's vertices are welded (one vertex per cut edge), vertices on edges shared
 // with a neighbour block are repeated there (assemble() can weld them).
@@ -55,8 +55,11 @@ struct Mesh {
 };
 
 struct MesherConfig {
-  // A cube corner counts as observed when its weight is at least this; ≤ 0 means the
-  // map's w_th.
+  // A cube corner counts as observed when its weight is positive and at least this. The
+  // default 0 meshes every observed voxel, as the thesis's MarchingCubes over the whole TSDF
+  // volume does (2.6.1, after Zeng et al. 2017); W_th (the known/unknown split, eq. 1.1)
+  // decides the ISEs and the planners' free space, not the mesh. Set it to W_th to mesh
+  // known voxels only.
   double min_weight = 0;
 };
 
@@ -84,7 +87,7 @@ class Mesher {
   explicit Mesher(MesherConfig config = {}) : config_(config) {}
 
   // Remeshes what changed since the last update() or full(); the first call, a snapshot
-  // older than the last one (a reset map), a different voxel size or W_th remeshes all.
+  // older than the last one (a reset map) or a different voxel size remeshes all.
   MeshStats update(const MapSnapshot& snap);
   // Remeshes every block.
   MeshStats full(const MapSnapshot& snap);
@@ -104,14 +107,12 @@ class Mesher {
 
  private:
   void remesh(const MapSnapshot& snap, std::vector<BlockIndex> indices);
-  float min_weight(const MapSnapshot& snap) const;
 
   MesherConfig config_;
   std::unordered_map<BlockIndex, BlockMesh, BlockIndexHash> blocks_;
   MeshStats stats_;
   uint64_t sequence_ = 0;
   double voxel_m_ = 0;
-  float min_weight_ = 0;
   bool meshed_ = false;
 };
 

@@ -51,6 +51,7 @@ TsdfMapper::Config TsdfMapper::read_config(ParamReader& p) {
   p.optional("depth_queue_depth", c.depth_queue_depth, {1, 1000});
   p.optional("mesh_path", c.mesh_path);
   p.choice("mesh_colour", c.mesh_colour, {"owner", "none"});
+  p.optional("mesh_min_weight", c.mesh_min_weight, {0, 1e6});
   p.optional("octomap_path", c.octomap_path);
   return c;
 }
@@ -140,7 +141,7 @@ void TsdfMapper::write_outputs() {
   if (config_.mesh_path.empty() && config_.octomap_path.empty()) return;
   const auto snap = snapshot();
   if (!config_.mesh_path.empty()) {
-    Mesher mesher;
+    Mesher mesher(MesherConfig{.min_weight = config_.mesh_min_weight});
     mesher.full(*snap);
     const Mesh mesh = mesher.assemble(Weld::kAcrossBlocks);
     const auto written =
@@ -172,10 +173,7 @@ void TsdfMapper::on_depth(const msg::DepthImage& depth) {
   frame.fy = depth.intrinsics.fy;
   frame.cx = depth.intrinsics.cx;
   frame.cy = depth.intrinsics.cy;
-  const bool pose_ok = unit_quaternion(depth.T_world_cam.orientation);
-  if (pose_ok) frame.T_world_cam = msg::to_eigen(depth.T_world_cam);
-  const std::string problem = pose_ok ? check_frame(frame) : "camera pose quaternion is not unit";
-  if (!problem.empty()) {
+  auto refuse = [&](const std::string& problem) {
     ++stats_.rejected_frames;
     if (!logged_[0]) {
       logged_[0] = true;
@@ -183,9 +181,24 @@ void TsdfMapper::on_depth(const msg::DepthImage& depth) {
                         qualified_name().c_str(), static_cast<double>(depth.header.stamp_ns) * 1e-9,
                         problem.c_str());
     }
+  };
+  if (!unit_quaternion(depth.T_world_cam.orientation)) {
+    refuse("camera pose quaternion is not unit");
     return;
   }
+  frame.T_world_cam = msg::to_eigen(depth.T_world_cam);
   const bool distributed = config_.mode == "distributed";
+
+  // the integrator checks the frame (check_frame) as it reads it, before writing anything
+  const auto t0 = std::chrono::steady_clock::now();
+  current_.advance_sequence_to(global_.sequence());
+  auto integrated = integrator_.integrate(distributed ? current_ : global_, frame);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (!integrated) {
+    refuse(integrated.error());
+    return;
+  }
   const Eigen::Vector3d position = frame.T_world_cam.translation();
   own_position_ = position;
   if (distributed && current_frames_ == 0) {
@@ -196,17 +209,6 @@ void TsdfMapper::on_depth(const msg::DepthImage& depth) {
   }
   last_position_ = position;
   have_last_position_ = true;
-
-  const auto t0 = std::chrono::steady_clock::now();
-  current_.advance_sequence_to(global_.sequence());
-  auto integrated = integrator_.integrate(distributed ? current_ : global_, frame);
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  if (!integrated) {  // check_frame passed, so this is a configuration mismatch
-    ++stats_.rejected_frames;
-    SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), integrated.error().c_str());
-    return;
-  }
   ++stats_.integrated;
   stats_.integrate_ms_sum += ms;
   stats_.integrate_ms_max = std::max(stats_.integrate_ms_max, ms);

@@ -81,6 +81,7 @@ class TsdfMapper final : public Component {
     // written when the component stops (empty: not written)
     std::string mesh_path;              // the global estimate's mesh, binary PLY
     std::string mesh_colour = "owner";  // owner (each robot's patches in its colour) | none
+    double mesh_min_weight = 0;         // MesherConfig::min_weight: 0 meshes every observed voxel
     std::string octomap_path;           // known space as an OctoMap (.bt)
   };
   static Config read_config(ParamReader& p);

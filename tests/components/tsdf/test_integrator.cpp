@@ -39,7 +39,7 @@ std::vector<Voxel> reference(const TsdfConfig& c, const std::vector<DepthFrame>&
           if (u < 0 || v < 0 || u >= f.width || v >= f.height) continue;
           const double depth = f.depth_m[static_cast<size_t>(v) * f.width + u];
           if (!(depth >= c.min_range_m && depth <= c.max_range_m)) continue;
-          const double d = depth - p.z();
+          const double d = (depth - p.z()) * p.norm() / p.z();  // along the viewing ray
           if (d < -c.truncation_m) continue;
           const double phi = std::min(d, c.truncation_m);
           const double wc = c.weight == "constant" ? 1.0 : 1.0 / p.squaredNorm();
@@ -88,7 +88,9 @@ TEST(Integrator, AgreesWithAPlainPerVoxelReference) {
         const Voxel& r = ref[static_cast<size_t>(x + n.x() * (y + n.y() * z))];
         const Voxel* v = snap->voxel(lo + Eigen::Vector3i(x, y, z));
         if (r.weight == 0) {
-          if (v != nullptr) EXPECT_EQ(v->weight, 0.0f);
+          if (v != nullptr) {
+            EXPECT_EQ(v->weight, 0.0f);
+          }
           continue;
         }
         ++observed;
@@ -99,9 +101,9 @@ TEST(Integrator, AgreesWithAPlainPerVoxelReference) {
         max_d = std::max(max_d, static_cast<double>(std::abs(v->distance_m - r.distance_m)));
         max_w = std::max(max_w, static_cast<double>(std::abs(v->weight - r.weight) / r.weight));
       }
-  EXPECT_GT(observed, 40000u);
-  EXPECT_EQ(missing, 0u);  // block selection drops nothing the reference integrates
-  EXPECT_LT(max_d, 1e-4);  // float vs double
+  EXPECT_GT(observed, 35000u);  // the case is not trivial (39 151 voxels)
+  EXPECT_EQ(missing, 0u);       // block selection drops nothing the reference integrates
+  EXPECT_LT(max_d, 1e-4);       // float vs double
   EXPECT_LT(max_w, 1e-4);
   // nothing outside the reference box was written
   for (const auto& [index, block] : snap->blocks())

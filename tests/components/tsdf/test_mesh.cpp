@@ -298,11 +298,11 @@ TEST(Mesher, ABoxLiesWithinEmaxWithNormalsOutsideAndMakesAClosedMesh) {
 
 TEST(Mesher, CubesWithAnUnobservedCornerMakeNoSurface) {
   const Box box;
-  TsdfMap map = box_map(box);
-  const double r = map.config().voxel_m;
-  // below w_th on the box's +x half: observed only from the −x side
+  const double r = box_map(box).config().voxel_m;
+  // the box's +x half set to weight w: observed only from the −x side
   const double cut_x = box.centre.x() + 0.01;
-  {
+  auto cut_map = [&](float w) {
+    TsdfMap map = box_map(box);
     const uint64_t sequence = map.begin_update();
     for (const BlockIndex& index : indices(map)) {
       Block* block = map.find_mutable(index);
@@ -310,24 +310,33 @@ TEST(Mesher, CubesWithAnUnobservedCornerMakeNoSurface) {
         for (int y = 0; y < kBlockSide; ++y)
           for (int x = 0; x < kBlockSide; ++x)
             if (voxel_center(index * kBlockSide + Eigen::Vector3i(x, y, z), r).x() > cut_x)
-              block->at(x, y, z).weight = 0.2f;
+              block->at(x, y, z).weight = w;
       block->modified = sequence;
     }
-  }
-  Mesher mesher;
-  mesher.full(*map.snapshot());
-  const Mesh half = mesher.assemble();
-  ASSERT_GT(half.triangles.size(), 100u);
-  for (const Eigen::Vector3f& v : half.vertices) ASSERT_LT(v.x(), cut_x);  // nothing past the cut
-  // no closing cap at the unknown border: about half the box's area
-  EXPECT_NEAR(area(half), box.area() / 2, 0.06 * box.area());
-
-  // a lower min_weight counts them as observed again
-  Mesher lenient(MesherConfig{.min_weight = 0.1});
-  lenient.full(*map.snapshot());
+    return map;
+  };
+  auto expect_half = [&](const Mesh& half) {
+    ASSERT_GT(half.triangles.size(), 100u);
+    for (const Eigen::Vector3f& v : half.vertices) ASSERT_LT(v.x(), cut_x);  // nothing past the cut
+    // no closing cap at the unknown border: about half the box's area
+    EXPECT_NEAR(area(half), box.area() / 2, 0.06 * box.area());
+  };
   Mesher all_known;
   all_known.full(*box_map(box).snapshot());
-  expect_same_mesh(lenient.assemble(), all_known.assemble());
+
+  // weight 0: never observed, so not meshed by default
+  Mesher observed;
+  observed.full(*cut_map(0.0f).snapshot());
+  expect_half(observed.assemble());
+
+  // weight 0.2: observed (meshed by default) but not known (below W_th = 0.3)
+  const TsdfMap faint = cut_map(0.2f);
+  Mesher by_default;
+  by_default.full(*faint.snapshot());
+  expect_same_mesh(by_default.assemble(), all_known.assemble());
+  Mesher known_only(MesherConfig{.min_weight = faint.config().w_th});
+  known_only.full(*faint.snapshot());
+  expect_half(known_only.assemble());
 }
 
 // --- incremental -------------------------------------------------------------------------
