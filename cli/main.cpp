@@ -1,5 +1,5 @@
 // scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, eval, bench
-// (ipc, sim, perception).
+// (ipc, sim, perception, tsdf).
 
 #include <CLI/CLI.hpp>
 #include <csignal>
@@ -16,6 +16,7 @@
 #include "bench/ipc/ipc_bench.hpp"
 #include "bench/perception/perception_bench.hpp"
 #include "bench/sim/sim_bench.hpp"
+#include "bench/tsdf/tsdf_bench.hpp"
 #endif
 
 namespace {
@@ -189,6 +190,47 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(64u, 1080u));
   perception_cmd->add_option("--seed", perception_bench.seed, "simulator seed (default 1)");
 
+  scancrew::bench::TsdfBenchOptions tsdf_bench;
+  auto* tsdf_cmd = bench->add_subcommand(
+      "tsdf", "TSDF integration and meshing: time, memory, accuracy; scancrew vs Open3D");
+  tsdf_cmd->add_flag("--json", tsdf_bench.json, "print one JSON object");
+  tsdf_cmd->add_option("--scene", tsdf_bench.scene_path, "scene to render in")
+      ->check(CLI::ExistingFile);
+  tsdf_cmd
+      ->add_option("--frames", tsdf_bench.frames,
+                   "depth frames per resolution (default 60; 10 with --quick)")
+      ->check(CLI::Range(1, 100000));
+  tsdf_cmd->add_flag("--quick", tsdf_bench.quick,
+                     "320x256, voxel 0.2 m, range 5 m, 10 frames only (smoke test)");
+  tsdf_cmd
+      ->add_option("--repeat", tsdf_bench.repeats,
+                   "runs per system and configuration; the fastest is reported (default 5)")
+      ->check(CLI::Range(1, 100));
+  tsdf_cmd
+      ->add_option("--density", tsdf_bench.density_per_m2,
+                   "ground-truth points per m2 (default 2000)")
+      ->check(CLI::Range(1.0, 100000.0));
+  tsdf_cmd->add_option("--seed", tsdf_bench.seed, "depth noise and ground-truth seed (default 1)");
+  tsdf_cmd
+      ->add_option("--weight", tsdf_bench.weight,
+                   "scancrew's measurement weight (default: the TsdfConfig's, inverse_square)")
+      ->check(CLI::IsMember({"inverse_square", "constant"}));
+  tsdf_cmd
+      ->add_option("--w-th", tsdf_bench.w_th, "scancrew's known-voxel weight W_th (default 0.3)")
+      ->check(CLI::Range(1e-6, 1000.0));
+  tsdf_cmd
+      ->add_option("--mesh-min-weight", tsdf_bench.mesh_min_weight,
+                   "weight from which the mesher counts a voxel observed (default: MesherConfig's)")
+      ->check(CLI::Range(1e-9, 1000.0));
+  tsdf_cmd->add_option("--sizes", tsdf_bench.sizes, "image sizes, e.g. 640x480 (default both)")
+      ->delimiter(',');
+  tsdf_cmd->add_option("--voxels", tsdf_bench.voxels_m, "voxel sizes in m (default 0.1,0.2,0.3)")
+      ->delimiter(',')
+      ->check(CLI::Range(0.01, 2.0));
+  tsdf_cmd->add_option("--ranges", tsdf_bench.ranges_m, "depth ranges in m (default 5,8)")
+      ->delimiter(',')
+      ->check(CLI::Range(0.5, 50.0));
+
   CLI11_PARSE(app, argc, argv);
 
   if (run->parsed()) return cmd_run(launch_path);
@@ -200,6 +242,14 @@ int main(int argc, char** argv) {
   if (sim_cmd->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_sim_bench(sim_bench);
+#else
+    std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
+    return 2;
+#endif
+  }
+  if (tsdf_cmd->parsed()) {
+#ifdef SCANCREW_WITH_BENCH
+    return scancrew::bench::run_tsdf_bench(tsdf_bench);
 #else
     std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
     return 2;
