@@ -45,24 +45,35 @@ struct PatchRequest {
   std::vector<uint64_t> patch_ids;
 };
 
-// Incomplete Surface Elements: voxel centres and the view direction of each.
+// Incomplete Surface Elements (thesis Definition 1): voxel centres and the view direction
+// of each (zero where it is undefined); C_rem (Definitions 2, 4) and the completion state.
 struct IseSet {
   static constexpr const char* kTypeName = "scancrew/IseSet";
   Header header;
-  uint64_t map_version = 0;
+  uint64_t map_version = 0;  // the map snapshot's update sequence
   std::vector<Vec3> centers_m;
   std::vector<Vec3> view_directions;  // unit vectors
+  std::vector<uint32_t> remaining;    // C_rem: indices of ISEs no robot type can scan
+  uint32_t inspectable = 0;           // |C_ins| = |C| − |C_rem|
+  uint8_t complete = 0;  // 1: C_ins empty over the configured consecutive updates (a byte, not
+                         // a bool: any decoded byte is a valid value)
 };
 
+// Robot types as bits (components/ise/ise_config.hpp RobotType).
+inline constexpr uint32_t kGroundRobotBit = 1u, kMultirotorBit = 2u;
+
 struct Viewpoint {
-  Waypoint pose;
+  Waypoint pose;                   // camera position and yaw
   std::vector<uint32_t> seen_ise;  // indices into the IseSet
+  uint32_t robot_types = 0;        // bits of the robot types that can stand there
 };
 
 struct ViewpointCluster {
   uint32_t id = 0;
   double gain = 0;  // g(U) = |C_U| / |C|
   std::vector<Viewpoint> viewpoints;
+  uint32_t robot_types = 0;  // bits of the robot types that can reach it
+  Vec3 centroid;
 };
 
 struct ViewpointClusters {
@@ -70,6 +81,7 @@ struct ViewpointClusters {
   Header header;
   uint64_t map_version = 0;
   std::vector<ViewpointCluster> clusters;
+  uint32_t ise_count = 0;  // |C|, the gains' denominator
 };
 
 }  // namespace scancrew::msg

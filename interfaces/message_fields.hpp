@@ -20,7 +20,7 @@ namespace scancrew::msg {
 // Version of the binary layout of every message (recordings, inter-robot links). A reader
 // refuses data of another version.
 // 2: TsdfPatch carries the compact patch payload instead of a dense voxel array.
-inline constexpr uint32_t kMessageFormatVersion = 2;
+inline constexpr uint32_t kMessageFormatVersion = 3;
 
 // The binding names only label the members; their order is the declaration order.
 #define SCANCREW_MESSAGE_FIELDS(Type, ...)      \
@@ -62,10 +62,11 @@ SCANCREW_MESSAGE_FIELDS(TsdfPatch, header, patch_id, robot_id, index, T_world_pa
                         truncation_m, block_count, raw_bytes, data)
 SCANCREW_MESSAGE_FIELDS(PatchList, header, patch_ids)
 SCANCREW_MESSAGE_FIELDS(PatchRequest, header, from_robot, patch_ids)
-SCANCREW_MESSAGE_FIELDS(IseSet, header, map_version, centers_m, view_directions)
-SCANCREW_MESSAGE_FIELDS(Viewpoint, pose, seen_ise)
-SCANCREW_MESSAGE_FIELDS(ViewpointCluster, id, gain, viewpoints)
-SCANCREW_MESSAGE_FIELDS(ViewpointClusters, header, map_version, clusters)
+SCANCREW_MESSAGE_FIELDS(IseSet, header, map_version, centers_m, view_directions, remaining,
+                        inspectable, complete)
+SCANCREW_MESSAGE_FIELDS(Viewpoint, pose, seen_ise, robot_types)
+SCANCREW_MESSAGE_FIELDS(ViewpointCluster, id, gain, viewpoints, robot_types, centroid)
+SCANCREW_MESSAGE_FIELDS(ViewpointClusters, header, map_version, clusters, ise_count)
 
 #undef SCANCREW_MESSAGE_FIELDS
 

@@ -61,8 +61,19 @@ TEST(Codec, EveryWireMessageRoundTripsExactly) {
   m.kind = Maneuver::Kind::kStepAside;
   expect_round_trip(m);
   ViewpointClusters c;
-  c.clusters.push_back({.id = 9, .gain = 0.1, .viewpoints = {{{{1, 1, 1}, 0}, {1, 2, 3}}}});
+  c.clusters.push_back({.id = 9,
+                        .gain = 0.1,
+                        .viewpoints = {{{{1, 1, 1}, 0}, {1, 2, 3}, kGroundRobotBit}},
+                        .robot_types = kGroundRobotBit | kMultirotorBit,
+                        .centroid = {1, 2, 0.5}});
+  c.ise_count = 17;
   expect_round_trip(c);
+  IseSet ises;
+  ises.centers_m = {{1, 2, 3}};
+  ises.view_directions = {{0, 0, 1}};
+  ises.remaining = {0};
+  ises.complete = 1;
+  expect_round_trip(ises);
   TsdfPatch patch;
   patch.robot_id = 2;
   patch.index = 5;

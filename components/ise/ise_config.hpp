@@ -1,0 +1,56 @@
+#pragma once
+
+// Parameters of ISE extraction, viewpoint generation, clustering and gain (thesis 2.4.2,
+// 2.4.3; tables 2.1, 3.1, 4.1, 5.3). Plain data; validate() says what is out of range.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace scancrew::ise {
+
+enum class RobotType : uint8_t { kGround = 0, kMultirotor = 1 };
+inline constexpr uint32_t type_bit(RobotType t) {
+  return 1u << static_cast<uint32_t>(t);
+}
+const char* to_string(RobotType t);
+
+// How one type of robot can scan: where its camera can be, how it sees.
+struct RobotTypeSpec {
+  RobotType type = RobotType::kGround;
+  // defaults: the ground robots of table 5.3
+  double delta_pose_m = 1.3;  // δ_pose: viewpoint distance from the ISE (within the range)
+  // camera: body-fixed and level (our robots have no gimbal), so a viewpoint's orientation
+  // is a yaw; an ISE is in view when it lies within the FOV from the camera
+  double fov_h_deg = 90, fov_v_deg = 60;
+  double min_range_m = 0.3, max_range_m = 5.0;
+  // ground robots: the camera's height above the floor, the floor's height, the body's
+  // height and footprint radius (the free space a viewpoint needs around it)
+  double camera_height_m = 0.35;
+  double floor_z_m = 0.0;
+  double body_height_m = 0.4;
+  // both: the clearance radius (ground: footprint, 0.55 m safety ellipsoid semi-axis of
+  // table 5.3; multirotor: collision radius, 1 m in table 2.1)
+  double clearance_m = 0.55;
+};
+
+struct IseConfig {
+  std::vector<RobotTypeSpec> robot_types = {RobotTypeSpec{}};
+  // viewpoints closer than ε with directions within merge_angle_deg are merged (2.4.2)
+  double merge_distance_m = 0.5;
+  double merge_angle_deg = 20;
+  // clusters (2.4.3): a viewpoint joins a cluster when a member is within d_v; a viewpoint
+  // with no neighbour within d_v joins its nearest one if it is within d_v^max
+  double d_v_m = 2.0;      // table 5.3 (2.0-2.5 in tables 2.1, 3.1)
+  double d_v_max_m = 3.5;  // table 5.3 (5 in tables 2.1, 3.1, 4.1)
+  // gain: rays per viewpoint, rows × columns over the camera's FOV (2.4.3)
+  int gain_rows = 12;
+  int gain_cols = 16;
+  // completion: no inspectable ISE over this many consecutive updates
+  int completion_updates = 3;
+
+  // Empty when valid, else every problem, "; "-separated. w_th is the map's W_th (> 0).
+  std::string validate(double w_th, double voxel_m) const;
+};
+
+}  // namespace scancrew::ise

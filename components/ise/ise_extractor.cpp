@@ -1,0 +1,172 @@
+#include "components/ise/ise_extractor.hpp"
+
+#include <algorithm>
+
+#include "components/ise/ise_ply.hpp"
+#include "executors/log.hpp"
+#include "executors/registry.hpp"
+
+namespace scancrew::ise {
+
+namespace {
+
+void read_type(ParamReader& p, const std::string& name, RobotTypeSpec& t) {
+  p.optional(name + "_delta_pose_m", t.delta_pose_m, {0.01, 1000});
+  p.optional(name + "_fov_h_deg", t.fov_h_deg, {1, 179});
+  p.optional(name + "_fov_v_deg", t.fov_v_deg, {1, 179});
+  p.optional(name + "_min_range_m", t.min_range_m, {0.001, 1000});
+  p.optional(name + "_max_range_m", t.max_range_m, {0.01, 1000});
+  p.optional(name + "_clearance_m", t.clearance_m, {0, 100});
+  if (t.type == RobotType::kGround) {
+    p.optional(name + "_camera_height_m", t.camera_height_m, {0.01, 100});
+    p.optional(name + "_floor_z_m", t.floor_z_m, {-1e4, 1e4});
+    p.optional(name + "_body_height_m", t.body_height_m, {0.01, 100});
+  }
+}
+
+msg::Vec3 vec(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+}  // namespace
+
+IseExtractor::Config IseExtractor::read_config(ParamReader& p) {
+  Config c;
+  p.optional_list("robot_types", c.robot_types);
+  // the per-type keys of both types are read (so a typo is reported as unknown) and used for
+  // the types planned for
+  RobotTypeSpec ground;
+  ground.type = RobotType::kGround;
+  RobotTypeSpec multirotor;
+  multirotor.type = RobotType::kMultirotor;
+  // multirotor defaults: the powerplant UAV of table 2.1
+  multirotor.delta_pose_m = 4.7;
+  multirotor.min_range_m = 1.6;
+  multirotor.max_range_m = 8.0;
+  multirotor.clearance_m = 1.0;
+  read_type(p, "ground", ground);
+  read_type(p, "multirotor", multirotor);
+  for (const std::string& t : c.robot_types)
+    if (t != "ground" && t != "multirotor")
+      p.report("robot_types", "unknown robot type '" + t + "' (ground | multirotor)");
+  c.ise.robot_types = {ground, multirotor};  // narrowed to the team's types on configure
+  p.optional("merge_distance_m", c.ise.merge_distance_m, {0, 100});
+  p.optional("merge_angle_deg", c.ise.merge_angle_deg, {0, 89.9});
+  p.optional("d_v_m", c.ise.d_v_m, {0.01, 1000});
+  p.optional("d_v_max_m", c.ise.d_v_max_m, {0.01, 1000});
+  p.optional("gain_rows", c.ise.gain_rows, {1, 1000});
+  p.optional("gain_cols", c.ise.gain_cols, {1, 1000});
+  p.optional("completion_updates", c.ise.completion_updates, {1, 1000000});
+  p.optional("ply_path", c.ply_path);
+  return c;
+}
+
+IseExtractor::IseExtractor(ComponentContext context, Config config)
+    : Component(std::move(context)), config_(std::move(config)) {}
+
+Result<void, std::string> IseExtractor::on_configure() {
+  std::vector<std::string> kinds = config_.robot_types;
+  if (kinds.empty())
+    for (const TeamMember& m : team())
+      if (std::find(kinds.begin(), kinds.end(), m.kind) == kinds.end()) kinds.push_back(m.kind);
+  if (kinds.empty()) kinds.emplace_back("ground");
+  std::vector<RobotTypeSpec> types;
+  for (const RobotTypeSpec& t : config_.ise.robot_types)
+    if (std::find(kinds.begin(), kinds.end(), to_string(t.type)) != kinds.end()) types.push_back(t);
+  config_.ise.robot_types = types;
+  // the map's W_th and voxel size come with the first snapshot; check the rest now
+  if (std::string problem = config_.ise.validate(1.0, 1.0); !problem.empty())
+    return make_unexpected(problem);
+  ises_ = create_publisher<msg::IseSet>("ises", {.pool_size = 2});
+  clusters_ = create_publisher<msg::ViewpointClusters>("clusters", {.pool_size = 2});
+  create_subscription<tsdf::MapUpdate>("map", {.depth = 1},
+                                       [this](Sample<tsdf::MapUpdate>&& s) { on_map(*s); });
+  return {};
+}
+
+void IseExtractor::on_map(const tsdf::MapUpdate& update) {
+  if (failed_ || update.map == nullptr) return;
+  const tsdf::MapSnapshot& snap = *update.map;
+  if (!pipeline_) {
+    auto created = IsePipeline::create(config_.ise, snap.config().w_th, snap.voxel_m());
+    if (!created) {
+      failed_ = true;
+      SCANCREW_LOG_ERROR("%s: %s (no ISEs will be published)", qualified_name().c_str(),
+                         created.error().c_str());
+      return;
+    }
+    pipeline_.emplace(std::move(created).value());
+  }
+  const IseResult& r = pipeline_->update(snap);
+  ++updates_;
+  ms_sum_ += r.stats.total_ms;
+  ms_max_ = std::max(ms_max_, r.stats.total_ms);
+  publish(r, update.header.stamp_ns);
+  if (r.complete && !completion_logged_) {
+    completion_logged_ = true;
+    SCANCREW_LOG_INFO(
+        "%s: complete: no inspectable ISE over %d updates (%zu ISEs remain in "
+        "C_rem)",
+        qualified_name().c_str(), config_.ise.completion_updates, r.remaining.size());
+  }
+}
+
+void IseExtractor::publish(const IseResult& r, int64_t stamp_ns) {
+  if (auto loan = ises_.loan()) {
+    msg::IseSet& m = **loan;
+    m.header.stamp_ns = stamp_ns;
+    m.map_version = r.map_sequence;
+    m.centers_m.clear();
+    m.view_directions.clear();
+    for (const Ise& ise : r.ises) {
+      m.centers_m.push_back(vec(ise.center));
+      m.view_directions.push_back(vec(ise.direction));
+    }
+    m.remaining = r.remaining;
+    m.inspectable = static_cast<uint32_t>(r.inspectable_count);
+    m.complete = r.complete ? 1 : 0;
+    (void)ises_.publish(std::move(*loan));
+  }
+  if (auto loan = clusters_.loan()) {
+    msg::ViewpointClusters& m = **loan;
+    m.header.stamp_ns = stamp_ns;
+    m.map_version = r.map_sequence;
+    m.ise_count = static_cast<uint32_t>(r.ises.size());
+    m.clusters.clear();
+    for (const Cluster& c : r.clusters) {
+      msg::ViewpointCluster out;
+      out.id = c.id;
+      out.gain = c.gain;
+      out.robot_types = c.types;
+      out.centroid = vec(c.centroid);
+      for (uint32_t i : c.viewpoints) {
+        const Viewpoint& v = r.viewpoints[i];
+        out.viewpoints.push_back(
+            {.pose = {vec(v.position), v.yaw_rad}, .seen_ise = v.seen, .robot_types = v.types});
+      }
+      m.clusters.push_back(std::move(out));
+    }
+    (void)clusters_.publish(std::move(*loan));
+  }
+}
+
+void IseExtractor::on_deactivate() {
+  const IseResult* r = last();
+  SCANCREW_LOG_INFO(
+      "%s: %llu map updates (%.1f ms mean, %.1f max); last: %zu ISEs, %zu in C_rem, %zu "
+      "viewpoints, %zu clusters%s",
+      qualified_name().c_str(), static_cast<unsigned long long>(updates_),
+      updates_ > 0 ? ms_sum_ / static_cast<double>(updates_) : 0.0, ms_max_, r ? r->ises.size() : 0,
+      r ? r->remaining.size() : 0, r ? r->viewpoints.size() : 0, r ? r->clusters.size() : 0,
+      r && r->complete ? ", complete" : "");
+  if (r != nullptr && !config_.ply_path.empty()) {
+    if (auto written = write_ise_ply(*r, config_.ply_path))
+      SCANCREW_LOG_INFO("%s: wrote %s", qualified_name().c_str(), config_.ply_path.c_str());
+    else
+      SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), written.error().c_str());
+  }
+}
+
+SCANCREW_REGISTER_COMPONENT(IseExtractor, "ise_extractor")
+
+}  // namespace scancrew::ise

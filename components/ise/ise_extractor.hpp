@@ -1,0 +1,63 @@
+#pragma once
+
+// IseExtractor: the perception module's ISE stage (thesis 2.4.2, 2.4.3). On each map
+// snapshot from the tsdf_mapper (`map`, MapUpdate) it updates the ISE set, C_rem, the
+// merged viewpoints and their clusters incrementally (ise_pipeline.hpp) and publishes
+//   ises      msg::IseSet: ISE centres, view directions, C_rem, |C_ins|, completion
+//   clusters  msg::ViewpointClusters: clusters with gains, robot types, viewpoints
+// Completion (C_ins = ∅ over completion_updates consecutive updates) is logged once.
+//
+// Parameters: the robot types to plan for (`robot_types`, default: the kinds of the
+// launch file's robots) and, per type, `<type>_delta_pose_m`, `<type>_fov_h_deg`,
+// `<type>_fov_v_deg`, `<type>_min_range_m`, `<type>_max_range_m`, `<type>_clearance_m`,
+// and for ground robots `ground_camera_height_m`, `ground_floor_z_m`,
+// `ground_body_height_m`; then merge_distance_m, merge_angle_deg, d_v_m, d_v_max_m,
+// gain_rows, gain_cols, completion_updates; ply_path (a picture of the last result, written
+// when the component stops: ise_ply.hpp). Out-of-range values fail at configuration; the
+// map's W_th and voxel size are checked on the first snapshot.
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include "components/ise/ise_pipeline.hpp"
+#include "components/tsdf/map_update.hpp"
+#include "executors/component.hpp"
+#include "executors/params.hpp"
+#include "interfaces/map_msgs.hpp"
+
+namespace scancrew::ise {
+
+class IseExtractor final : public Component {
+ public:
+  static constexpr std::string_view kDescription =
+      "ISEs, viewpoints, clusters and gains from the map snapshots (thesis 2.4.2-2.4.3)";
+  struct Config {
+    IseConfig ise;
+    std::vector<std::string> robot_types;  // empty: the launch file's kinds
+    std::string ply_path;  // written when the component stops: ise_ply.hpp (empty: not)
+  };
+  static Config read_config(ParamReader& p);
+
+  IseExtractor(ComponentContext context, Config config);
+
+  // The last result (tests, benchmarks); null before the first map.
+  const IseResult* last() const { return pipeline_ ? &pipeline_->result() : nullptr; }
+  uint64_t updates() const { return updates_; }
+
+ private:
+  Result<void, std::string> on_configure() override;
+  void on_deactivate() override;
+  void on_map(const tsdf::MapUpdate& update);
+  void publish(const IseResult& r, int64_t stamp_ns);
+
+  Config config_;
+  std::optional<IsePipeline> pipeline_;
+  Publisher<msg::IseSet> ises_;
+  Publisher<msg::ViewpointClusters> clusters_;
+  uint64_t updates_ = 0;
+  double ms_sum_ = 0, ms_max_ = 0;
+  bool failed_ = false, completion_logged_ = false;
+};
+
+}  // namespace scancrew::ise
