@@ -44,8 +44,8 @@ struct IseConfig {
   double d_v_m = 2.0;      // table 5.3 (2.0-2.5 in tables 2.1, 3.1)
   double d_v_max_m = 3.5;  // table 5.3 (5 in tables 2.1, 3.1, 4.1)
   // gain: rays per viewpoint, rows × columns over the camera's FOV (2.4.3)
-  int gain_rows = 12;
-  int gain_cols = 16;
+  int gain_rows = 13;  // odd: a centre ray along the optical axis
+  int gain_cols = 17;
   // completion: no inspectable ISE over this many consecutive updates
   int completion_updates = 3;
 

@@ -70,8 +70,9 @@ const IseResult& IsePipeline::full(const tsdf::MapSnapshot& snap) {
 const IseResult& IsePipeline::update(const tsdf::MapSnapshot& snap) {
   if (!have_ || snap.sequence() < sequence_ || snap.voxel_m() != voxel_m_) return full(snap);
   std::vector<BlockIndex> changed = snap.changed_since(sequence_);
-  // blocks gone from the map since (a reset region) change their neighbours too
-  for (const auto& [index, list] : ises_)
+  // blocks gone from the map since (a reset region) change their neighbours too, whether
+  // or not they held ISEs (their voxels turn unknown next to their neighbours' voxels)
+  for (const BlockIndex& index : blocks_)
     if (snap.block(index) == nullptr) changed.push_back(index);
   run(snap, changed, false);
   return result_;
@@ -259,6 +260,9 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
   result_ = std::move(out);
   have_ = true;
   sequence_ = snap.sequence();
+  blocks_.clear();
+  blocks_.reserve(snap.block_count());
+  for (const auto& [index, block] : snap.blocks()) blocks_.push_back(index);
   voxel_m_ = snap.voxel_m();
 }
 

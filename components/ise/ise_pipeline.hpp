@@ -3,7 +3,8 @@
 // IsePipeline: from a map snapshot to the ISE set C, the remaining set C_rem, merged
 // viewpoints, clusters and gains (thesis 2.4.2, 2.4.3, Definitions 1-4), incrementally.
 //
-// update() recomputes only what the blocks written since the last snapshot can change:
+// update() recomputes only what the blocks written (or removed) since the last snapshot can
+// change:
 //   ISEs: the changed blocks and their 26 neighbour blocks (an ISE reads its neighbours);
 //   candidate viewpoints: those of the recomputed ISEs, and the feasibility of every cached
 //     candidate whose clearance region meets a changed block;
@@ -102,6 +103,7 @@ class IsePipeline {
   double voxel_m_ = 0;
   bool had_ises_ = false;
   int empty_updates_ = 0;
+  std::vector<BlockIndex> blocks_;  // the last snapshot's blocks, to notice removed ones
   std::map<BlockIndex, std::vector<Ise>, BlockOrder> ises_;
   std::map<BlockIndex, BlockCandidates, BlockOrder> candidates_;
   std::unordered_map<PoseKey, Seen, PoseKeyHash> seen_;
