@@ -9,7 +9,9 @@ namespace scancrew::ise {
 
 Result<void, std::string> write_ise_ply(const IseResult& r, const std::string& path) {
   const std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "w"), &std::fclose);
-  if (!f) return make_unexpected("cannot write " + path + ": " + std::error_code(errno, std::generic_category()).message());
+  if (!f)
+    return make_unexpected("cannot write " + path + ": " +
+                           std::error_code(errno, std::generic_category()).message());
   std::fprintf(f.get(),
                "ply\nformat ascii 1.0\ncomment scancrew ISEs (green: inspectable, red: C_rem) "
                "and viewpoints (blue)\nelement vertex %zu\nproperty float x\nproperty float y\n"
