@@ -17,6 +17,7 @@ void read_type(ParamReader& p, const std::string& name, RobotTypeSpec& t) {
   p.optional(name + "_min_range_m", t.min_range_m, {0.001, 1000});
   p.optional(name + "_max_range_m", t.max_range_m, {0.01, 1000});
   p.optional(name + "_clearance_m", t.clearance_m, {0, 100});
+  p.optional(name + "_unknown_is_free", t.unknown_is_free);
   if (t.type == RobotType::kGround) {
     p.optional(name + "_camera_height_m", t.camera_height_m, {0.01, 100});
     p.optional(name + "_floor_z_m", t.floor_z_m, {-1e4, 1e4});
@@ -44,6 +45,7 @@ IseExtractor::Config IseExtractor::read_config(ParamReader& p) {
   multirotor.min_range_m = 1.6;
   multirotor.max_range_m = 8.0;
   multirotor.clearance_m = 1.0;
+  multirotor.unknown_is_free = true;
   read_type(p, "ground", ground);
   read_type(p, "multirotor", multirotor);
   for (const std::string& t : c.robot_types)

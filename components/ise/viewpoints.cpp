@@ -58,8 +58,11 @@ bool feasible(const tsdf::MapSnapshot& snap, const RobotTypeSpec& type,
   VoxelReader reader(snap);
   const int reach = static_cast<int>(std::ceil(type.clearance_m / r));
   const tsdf::VoxelIndex c = tsdf::voxel_of(position, r);
+  if (reader.state(c) != tsdf::VoxelState::kEmpty) return false;
   auto free = [&](const tsdf::VoxelIndex& v) {
-    return reader.state(v) == tsdf::VoxelState::kEmpty;
+    const tsdf::VoxelState s = reader.state(v);
+    return s == tsdf::VoxelState::kEmpty ||
+           (type.unknown_is_free && s == tsdf::VoxelState::kUnknown);
   };
   const double r2 = (type.clearance_m + 0.5 * r) * (type.clearance_m + 0.5 * r);
   if (type.type == RobotType::kGround) {

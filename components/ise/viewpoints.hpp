@@ -9,9 +9,11 @@
 //   multirotors: the direction with its elevation clamped to 0.8 × half the vertical FOV
 //     (a level camera cannot look along a steep −n̄; the thesis's UAV orients the sensor
 //     freely), at δ_pose from the ISE.
-// Feasibility (Definitions 2 and 4): every voxel within the clearance radius (ground: a
-// cylinder from one voxel above the floor up to the body height; multirotor: a sphere) is
-// known and empty, and a ground robot's floor under it is known. Merging (2.4.2): poses
+// Feasibility (Definitions 2 and 4): the viewpoint's voxel is known and empty, every voxel
+// within the clearance radius (ground: a cylinder from one voxel above the floor up to the
+// body height; multirotor: a sphere) is empty, or unknown where the type's unknown_is_free
+// allows it (multirotors by default in the ise_extractor), and a ground robot's floor under
+// it is known. Merging (2.4.2): poses
 // within ε whose directions differ by less than merge_angle_deg are averaged (positions,
 // and directions renormalised). The thesis writes |n̄_j·n̄_k| ≈ 1; we require n̄_j·n̄_k ≈ +1,
 // since two opposite views cannot be averaged into one. A merged pose that is no longer

@@ -135,10 +135,19 @@ TEST(ViewpointFeasible, MultirotorNeedsKnownEmptySpaceWithinItsClearance) {
   // unknown within the clearance: not known to be free
   scene.set({0, 1, 1}, VoxelState::kUnknown);
   EXPECT_FALSE(feasible(*scene.snapshot(), multirotor(), kAtVoxel0));
+  // unless the type takes unknown space as free; an obstacle still is not
+  RobotTypeSpec optimistic = multirotor();
+  optimistic.unknown_is_free = true;
+  EXPECT_TRUE(feasible(*scene.snapshot(), optimistic, kAtVoxel0));
+  scene.set({1, 1, 0}, VoxelState::kOccupied);
+  EXPECT_FALSE(feasible(*scene.snapshot(), optimistic, kAtVoxel0));
+  scene.set({1, 1, 0}, VoxelState::kEmpty);
   scene.set({0, 1, 1}, VoxelState::kEmpty);
   EXPECT_TRUE(feasible(*scene.snapshot(), multirotor(), kAtVoxel0));
-  // never observed space, and inside an obstacle
+  // never observed space (the viewpoint's own voxel unknown: not even for the optimist),
+  // and inside an obstacle
   EXPECT_FALSE(feasible(*scene.snapshot(), multirotor(), {5, 5, 5}));
+  EXPECT_FALSE(feasible(*scene.snapshot(), optimistic, {5, 5, 5}));
   scene.set({0, 0, 0}, VoxelState::kOccupied);
   EXPECT_FALSE(feasible(*scene.snapshot(), multirotor(), kAtVoxel0));
 }
