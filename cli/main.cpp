@@ -1,5 +1,5 @@
 // scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, eval, bench
-// (ipc, sim, perception, tsdf).
+// (ipc, sim, perception, tsdf, ise, tsp).
 
 #include <CLI/CLI.hpp>
 #include <csignal>
@@ -14,9 +14,11 @@
 #include "executors/registry.hpp"
 #ifdef SCANCREW_WITH_BENCH
 #include "bench/ipc/ipc_bench.hpp"
+#include "bench/ise/ise_bench.hpp"
 #include "bench/perception/perception_bench.hpp"
 #include "bench/sim/sim_bench.hpp"
 #include "bench/tsdf/tsdf_bench.hpp"
+#include "bench/tsp/tsp_bench.hpp"
 #endif
 
 namespace {
@@ -231,6 +233,48 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->check(CLI::Range(0.5, 50.0));
 
+  scancrew::bench::IseBenchOptions ise_bench;
+  auto* ise_cmd = bench->add_subcommand(
+      "ise", "ISE extraction, viewpoints, clusters and gain: incremental and full update time");
+  ise_cmd->add_flag("--json", ise_bench.json, "print one JSON object");
+  ise_cmd
+      ->add_option("--frames", ise_bench.frames,
+                   "depth frames per scene (default 300 parking lot, 1000 powerplant)")
+      ->check(CLI::Range(1, 100000));
+  ise_cmd->add_flag(
+      "--quick", ise_bench.quick,
+      "80 parking-lot frames, a tenth of the powerplant lap, one full() (smoke test)");
+  ise_cmd
+      ->add_option("--repeat", ise_bench.repeats,
+                   "full() calls per scene; the fastest is reported (default 3)")
+      ->check(CLI::Range(1, 100));
+  ise_cmd
+      ->add_option("--warmup", ise_bench.warmup,
+                   "first updates left out of the incremental figures (default 3)")
+      ->check(CLI::Range(0, 1000));
+  ise_cmd->add_option("--seed", ise_bench.seed, "depth noise seed (default 1)");
+  ise_cmd->add_option("--scenes", ise_bench.scenes, "parking_lot, powerplant (default both)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"parking_lot", "powerplant"}));
+
+  scancrew::bench::TspBenchOptions tsp_bench;
+  auto* tsp_cmd = bench->add_subcommand(
+      "tsp", "(max)ATSP solver: TSPLIB gap and time per instance, maxATSP time on 50-200 clusters");
+  tsp_cmd->add_flag("--json", tsp_bench.json, "print one JSON object");
+  tsp_cmd
+      ->add_option("--dir", tsp_bench.dir,
+                   "folder of the TSPLIB .atsp files (default data/tsplib_atsp)")
+      ->check(CLI::ExistingDirectory);
+  tsp_cmd->add_flag("--quick", tsp_bench.quick,
+                    "br17, ftv33, ftv38 and two maxATSP instances per size (smoke test)");
+  tsp_cmd->add_option("--seed", tsp_bench.seed, "solver seed (default 1)");
+  tsp_cmd
+      ->add_option("--kicks-per-node", tsp_bench.kicks_per_node,
+                   "TSPLIB iteration budget: kicks per node (default 500)")
+      ->check(CLI::Range(1, 1000000));
+  tsp_cmd->add_option("--repeat", tsp_bench.repeats, "maxATSP instances per size (default 5)")
+      ->check(CLI::Range(1, 1000));
+
   CLI11_PARSE(app, argc, argv);
 
   if (run->parsed()) return cmd_run(launch_path);
@@ -250,6 +294,22 @@ int main(int argc, char** argv) {
   if (tsdf_cmd->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_tsdf_bench(tsdf_bench);
+#else
+    std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
+    return 2;
+#endif
+  }
+  if (ise_cmd->parsed()) {
+#ifdef SCANCREW_WITH_BENCH
+    return scancrew::bench::run_ise_bench(ise_bench);
+#else
+    std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
+    return 2;
+#endif
+  }
+  if (tsp_cmd->parsed()) {
+#ifdef SCANCREW_WITH_BENCH
+    return scancrew::bench::run_tsp_bench(tsp_bench);
 #else
     std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
     return 2;

@@ -1,0 +1,85 @@
+#pragma once
+
+// High-level planners over viewpoint clusters (thesis 2.5, 3.5.1, 4.5.1): TSGA (Algorithm
+// 2), dist-TSGA (Algorithm 5) and the NNB baseline (Algorithm 4), on the maxATSP engine of
+// atsp.hpp and the utilities of eq. 2.3 (utility.hpp).
+//
+// The graph, as implemented:
+//   nodes: {q_0} (the robot's position) and the clusters;
+//   each cluster V has one intra-cluster path τ_lm over its viewpoints, the shortest open
+//     Hamiltonian path found by the engine (a closed ATSP with a free dummy node), computed
+//     once per planning call: it is entered at its first viewpoint q_l and left at its last
+//     q_m (the thesis recomputes τ_lm per entry point; one path per cluster keeps the
+//     matrix static, so one maxATSP solve per insertion);
+//   d(τ_kl): the straight-line distance from U's exit to V's entry (the roadmap distance of
+//     the low-level planner is a later option), d(τ_lm): the intra path's length;
+//   f_UV = g(V)·exp(−λ_tc·d(τ_kl) − λ_ic·d(τ_lm)), λ per robot (heterogeneous teams).
+// TSGA: clusters ranked by their distance to the nearest robot that can reach them
+// (ascending); each goes to the robot k maximising maxATSP(U^k ∪ V) − p^k among those whose
+// type can reach it (ties: the lower index); clusters no robot can reach are returned
+// unassigned. Insertions are evaluated with a short search (insertion_iterations), each
+// robot's final path polished with final_iterations.
+// dist-TSGA: every robot runs the same deterministic TSGA on its own map estimate and keeps
+// only its own path; on identical inputs every robot gets the partition TSGA gives.
+// NNB: each robot gets the one cluster maximising f_{q_0 V} (clusters may repeat across
+// robots; the low-level planners resolve conflicts, 3.5.2).
+//
+// Bad input: NaN or negative gains, NaN positions, duplicate cluster or robot ids, a cluster
+// without viewpoints: an error naming it. No clusters or no robots: empty plans.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "components/tsga/atsp.hpp"
+#include "executors/result.hpp"
+
+namespace scancrew::tsga {
+
+struct PlanCluster {
+  uint32_t id = 0;
+  double gain = 0;             // g(V)
+  uint32_t robot_types = ~0u;  // bits of the robot types that can reach it
+  std::vector<Eigen::Vector3d> viewpoints;
+};
+
+struct PlanRobot {
+  uint32_t id = 0;
+  uint32_t type_bit = 1;  // its robot type's bit
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double lambda_tc_per_m = 0.5;   // table 5.3 (test arena): inter-cluster penalty
+  double lambda_ic_per_m = 0.01;  // intra-cluster penalty
+};
+
+struct PlannerOptions {
+  int insertion_iterations = 20;  // ILS kicks per insertion evaluation
+  int final_iterations = 300;     // ILS kicks for each robot's final path
+  uint64_t seed = 1;
+};
+
+struct RobotPlan {
+  uint32_t robot_id = 0;
+  std::vector<uint32_t> clusters;           // cluster ids in visiting order
+  std::vector<Eigen::Vector3d> viewpoints;  // the path's viewpoints in order
+  std::vector<double> utilities;            // f of each arc taken (per cluster)
+  double utility = 0;                       // p = maxATSP(U^k)
+};
+
+struct TeamPlan {
+  std::vector<RobotPlan> robots;     // one per input robot, in input order
+  std::vector<uint32_t> unassigned;  // clusters no robot type can reach
+};
+
+Result<TeamPlan, std::string> plan_tsga(const std::vector<PlanRobot>& robots,
+                                        const std::vector<PlanCluster>& clusters,
+                                        const PlannerOptions& options = {});
+// The robot `self` (an id in robots) keeps its own path of the TSGA allocation.
+Result<RobotPlan, std::string> plan_dist_tsga(uint32_t self, const std::vector<PlanRobot>& robots,
+                                              const std::vector<PlanCluster>& clusters,
+                                              const PlannerOptions& options = {});
+Result<TeamPlan, std::string> plan_nnb(const std::vector<PlanRobot>& robots,
+                                       const std::vector<PlanCluster>& clusters,
+                                       const PlannerOptions& options = {});
+
+}  // namespace scancrew::tsga
