@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "bench/bench_stats.hpp"
 #include "bench/tsdf/depth_sequence.hpp"
 #include "bench/tsdf/open3d_peer.hpp"
 #include "bench/tsdf/tsdf_report.hpp"
@@ -24,31 +25,6 @@
 namespace scancrew::bench {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double mean(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return v.empty() ? 0 : s / static_cast<double>(v.size());
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  const auto k = static_cast<size_t>(p * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
-
-// The machine's 1-minute load average (other processes skew the timings).
-double load_average() {
-  double load[1] = {0};
-  return ::getloadavg(load, 1) == 1 ? load[0] : -1.0;
-}
 
 // What either system hands back for one configuration.
 struct SystemRun {

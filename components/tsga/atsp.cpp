@@ -41,14 +41,13 @@ Result<void, std::string> check_options(const SolverOptions& o) {
 // using a forbidden arc is always dearer than any tour that uses none.
 Result<std::vector<double>, std::string> engine_costs(const CostMatrix& costs) {
   const size_t n = costs.size();
+  if (std::string problem = check_costs(costs); !problem.empty()) return make_unexpected(problem);
   double lo = kInf;
   double hi = -kInf;
   for (size_t i = 0; i < n; ++i) {
     for (size_t j = 0; j < n; ++j) {
       if (i == j) continue;
       const double v = costs(i, j);
-      if (std::isnan(v)) return make_unexpected("cost " + arc_name(i, j) + " is NaN");
-      if (v == -kInf) return make_unexpected("cost " + arc_name(i, j) + " is -infinity");
       if (v == kInf) continue;
       lo = std::min(lo, v);
       hi = std::max(hi, v);
@@ -173,6 +172,30 @@ Result<Tour, std::string> solve_closed_atsp(const CostMatrix& costs, const Solve
   return tour;
 }
 
+std::string check_costs(const CostMatrix& costs) {
+  const size_t n = costs.size();
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < n; ++j) {
+      if (i == j) continue;
+      const double v = costs(i, j);
+      if (std::isnan(v)) return "cost " + arc_name(i, j) + " is NaN";
+      if (v == -kInf) return "cost " + arc_name(i, j) + " is -infinity";
+    }
+  return {};
+}
+
+std::string check_utilities(const CostMatrix& utility) {
+  const size_t n = utility.size();
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < n; ++j) {
+      if (i == j) continue;
+      const double u = utility(i, j);
+      if (std::isnan(u)) return "utility " + arc_name(i, j) + " is NaN";
+      if (u == kInf) return "utility " + arc_name(i, j) + " is +infinity";
+    }
+  return {};
+}
+
 Result<OpenPath, std::string> solve_max_open_path(const CostMatrix& utility, int start,
                                                   const SolverOptions& options) {
   const size_t n = utility.size();
@@ -184,14 +207,14 @@ Result<OpenPath, std::string> solve_max_open_path(const CostMatrix& utility, int
     return make_unexpected("start node " + std::to_string(start) + " is not in [0, " +
                            std::to_string(n) + ")");
   const auto s = static_cast<size_t>(start);
+  if (std::string problem = check_utilities(utility); !problem.empty())
+    return make_unexpected(problem);
   // cost(U, V) = -utility(U, V); every arc into the start is the free return arc
   CostMatrix costs(n, 0.0);
   for (size_t i = 0; i < n; ++i) {
     for (size_t j = 0; j < n; ++j) {
       if (i == j) continue;
       const double u = utility(i, j);
-      if (std::isnan(u)) return make_unexpected("utility " + arc_name(i, j) + " is NaN");
-      if (u == kInf) return make_unexpected("utility " + arc_name(i, j) + " is +infinity");
       costs(i, j) = j == s ? 0.0 : -u;  // -(-infinity): a forbidden arc
     }
   }

@@ -104,6 +104,11 @@ Result<OpenPath, std::string> solve_max_open_path(const CostMatrix& utility, int
 double tour_cost(const CostMatrix& costs, std::span<const int> nodes);
 double path_utility(const CostMatrix& utility, std::span<const int> nodes);
 
+// The arc-value rules above: empty when every off-diagonal value is allowed, else the
+// first offending arc, named. Costs: no NaN, no -infinity. Utilities: no NaN, no +infinity.
+std::string check_costs(const CostMatrix& costs);
+std::string check_utilities(const CostMatrix& utility);
+
 // Checks that nodes is a permutation of 0..n-1 (what every solver returns).
 bool is_permutation_of_nodes(std::span<const int> nodes, size_t n);
 

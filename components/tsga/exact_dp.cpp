@@ -11,16 +11,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-std::string arc_name(size_t from, size_t to) {
-  // appended piece by piece: g++ 12 warns (-Wrestrict, falsely) on "(" + std::to_string()
-  std::string name = "(";
-  name += std::to_string(from);
-  name += ", ";
-  name += std::to_string(to);
-  name += ")";
-  return name;
-}
-
 Result<void, std::string> check_size(size_t n) {
   if (n > kMaxExactNodes)
     return make_unexpected("the exact DP handles at most " + std::to_string(kMaxExactNodes) +
@@ -88,14 +78,12 @@ std::vector<int> held_karp(const std::vector<double>& arc, size_t n, size_t sour
 Result<Tour, std::string> solve_closed_atsp_exact(const CostMatrix& costs) {
   const size_t n = costs.size();
   if (auto ok = check_size(n); !ok) return make_unexpected(ok.error());
+  if (std::string problem = check_costs(costs); !problem.empty()) return make_unexpected(problem);
   std::vector<double> arc(n * n, 0.0);
   for (size_t i = 0; i < n; ++i) {
     for (size_t j = 0; j < n; ++j) {
       if (i == j) continue;
-      const double v = costs(i, j);
-      if (std::isnan(v)) return make_unexpected("cost " + arc_name(i, j) + " is NaN");
-      if (v == -kInf) return make_unexpected("cost " + arc_name(i, j) + " is -infinity");
-      arc[i * n + j] = v;
+      arc[i * n + j] = costs(i, j);
     }
   }
   if (n == 0) return Tour{};
@@ -115,14 +103,13 @@ Result<OpenPath, std::string> solve_max_open_path_exact(const CostMatrix& utilit
   if (start < 0 || static_cast<size_t>(start) >= n)
     return make_unexpected("start node " + std::to_string(start) + " is not in [0, " +
                            std::to_string(n) + ")");
+  if (std::string problem = check_utilities(utility); !problem.empty())
+    return make_unexpected(problem);
   std::vector<double> arc(n * n, 0.0);
   for (size_t i = 0; i < n; ++i) {
     for (size_t j = 0; j < n; ++j) {
       if (i == j) continue;
-      const double u = utility(i, j);
-      if (std::isnan(u)) return make_unexpected("utility " + arc_name(i, j) + " is NaN");
-      if (u == kInf) return make_unexpected("utility " + arc_name(i, j) + " is +infinity");
-      arc[i * n + j] = -u;
+      arc[i * n + j] = -utility(i, j);
     }
   }
   OpenPath path;
