@@ -213,6 +213,20 @@ Result<RobotPlan, std::string> plan_dist_tsga(uint32_t self, const std::vector<P
   return team->robots[static_cast<size_t>(it - robots.begin())];
 }
 
+Result<RobotPlan, std::string> plan_for_idle(const PlanRobot& idle,
+                                             const std::vector<PlanCluster>& clusters,
+                                             const std::vector<uint32_t>& held,
+                                             const PlannerOptions& options) {
+  if (auto ok = check({idle}, clusters); !ok) return make_unexpected(ok.error());
+  const std::unordered_set<uint32_t> taken(held.begin(), held.end());
+  std::vector<PlanCluster> free;
+  for (const PlanCluster& c : clusters)
+    if (taken.count(c.id) == 0 && (c.robot_types & idle.type_bit) != 0) free.push_back(c);
+  auto team = plan_tsga({idle}, free, options);
+  if (!team) return make_unexpected(team.error());
+  return team->robots.front();
+}
+
 Result<TeamPlan, std::string> plan_nnb(const std::vector<PlanRobot>& robots,
                                        const std::vector<PlanCluster>& clusters,
                                        const PlannerOptions& options) {

@@ -78,6 +78,13 @@ Result<TeamPlan, std::string> plan_tsga(const std::vector<PlanRobot>& robots,
 Result<RobotPlan, std::string> plan_dist_tsga(uint32_t self, const std::vector<PlanRobot>& robots,
                                               const std::vector<PlanCluster>& clusters,
                                               const PlannerOptions& options = {});
+// Asynchronous reallocation (3.5.1): a robot that has become idle gets the clusters that no
+// other robot holds (`held`: the cluster ids in the other robots' current plans) and that
+// its type can reach, ordered by maxATSP as in TSGA with the idle robot alone.
+Result<RobotPlan, std::string> plan_for_idle(const PlanRobot& idle,
+                                             const std::vector<PlanCluster>& clusters,
+                                             const std::vector<uint32_t>& held,
+                                             const PlannerOptions& options = {});
 Result<TeamPlan, std::string> plan_nnb(const std::vector<PlanRobot>& robots,
                                        const std::vector<PlanCluster>& clusters,
                                        const PlannerOptions& options = {});

@@ -136,6 +136,45 @@ TEST(Tsga, ClustersGoOnlyToRobotTypesThatCanReachThem) {
   EXPECT_EQ(nnb->unassigned, (std::vector<uint32_t>{clusters[4].id}));
 }
 
+TEST(Tsga, ReallocationFillsAnIdleRobot) {
+  const auto robots = team(3);
+  const auto first = random_clusters(12, 21);
+  const auto plan = plan_tsga(robots, first);
+  ASSERT_TRUE(plan) << plan.error();
+  // robot 2 has finished its path (idle); new clusters appeared since
+  std::vector<uint32_t> held;
+  for (const RobotPlan& r : plan->robots)
+    if (r.robot_id != 2) held.insert(held.end(), r.clusters.begin(), r.clusters.end());
+  auto now = first;
+  for (PlanCluster c : random_clusters(5, 22)) {
+    c.id += 1000;
+    now.push_back(c);
+  }
+  now.back().robot_types = 2;  // a multirotor cluster: not for this ground robot
+  PlanRobot idle = robots[1];
+  idle.position = Eigen::Vector3d(10, 10, 0.35);
+  const auto refill = plan_for_idle(idle, now, held);
+  ASSERT_TRUE(refill) << refill.error();
+  EXPECT_EQ(refill->robot_id, 2u);
+  // every cluster nobody else holds and the robot can reach, once, and nothing held
+  std::vector<uint32_t> expected;
+  for (const PlanCluster& c : now)
+    if (std::find(held.begin(), held.end(), c.id) == held.end() && (c.robot_types & 1u) != 0)
+      expected.push_back(c.id);
+  std::vector<uint32_t> got = refill->clusters;
+  std::sort(got.begin(), got.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(got, expected);
+  EXPECT_GE(got.size(), 4u);  // at least the new ground clusters
+  EXPECT_GT(refill->utility, 0);
+  // nothing left: an idle robot stays idle
+  std::vector<uint32_t> all;
+  for (const PlanCluster& c : now) all.push_back(c.id);
+  const auto nothing = plan_for_idle(idle, now, all);
+  ASSERT_TRUE(nothing);
+  EXPECT_TRUE(nothing->clusters.empty());
+}
+
 TEST(Tsga, EdgeCasesHaveDefinedResults) {
   const auto robots = team(2);
   const auto none = plan_tsga(robots, {});
