@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bench/tsdf/depth_sequence.hpp"
 #include "interfaces/eigen_conversions.hpp"
 #include "sim/team_sim.hpp"
 
@@ -70,21 +71,10 @@ Result<FlightSummary, std::string> fly_lap(const sim::SceneSpec& scene,
   robot.start_yaw_rad = heading_to(f, {robot.start_x_m, robot.start_y_m, robot.start_z_m}, 0.0);
   // commands are clamped to twice the nominal speed: room for the climbs
   robot.nominal_speed_mps = o.speed_mps;
-  robot.camera.width = o.width;
-  robot.camera.height = o.height;
-  robot.camera.fov_h_deg = 90.0;
-  robot.camera.fov_v_deg = 2.0 * std::atan(static_cast<double>(o.height) / o.width) * 180.0 / M_PI;
   robot.camera.baseline_m = 0.11;
   robot.camera.mount_up_m = 0.0;
-  robot.camera.min_range_m = o.min_range_m;
-  robot.camera.max_range_m = o.max_range_m;
-  if (const std::string problem = robot.camera.validate(); !problem.empty())
-    return make_unexpected(problem);
-  sim::TeamSimConfig config;
-  config.seed = o.seed;
-  config.mjcf.offscreen_width = std::max(config.mjcf.offscreen_width, o.width);
-  config.mjcf.offscreen_height = std::max(config.mjcf.offscreen_height, o.height);
-  auto made = sim::TeamSim::create(scene, {robot}, config);
+  auto made =
+      make_camera_sim(scene, robot, o.width, o.height, o.min_range_m, o.max_range_m, o.seed);
   if (!made) return make_unexpected(made.error());
   sim::TeamSim& s = **made;
 

@@ -60,6 +60,24 @@ class LoopDriver {
 
 }  // namespace
 
+Result<std::unique_ptr<sim::TeamSim>, std::string> make_camera_sim(
+    const sim::SceneSpec& scene, sim::RobotSpec robot, uint32_t width, uint32_t height,
+    double min_range_m, double max_range_m, uint64_t seed) {
+  robot.camera.width = width;
+  robot.camera.height = height;
+  robot.camera.fov_h_deg = 90.0;
+  robot.camera.fov_v_deg = fov_v_for(width, height);
+  robot.camera.min_range_m = min_range_m;
+  robot.camera.max_range_m = max_range_m;
+  if (const std::string problem = robot.camera.validate(); !problem.empty())
+    return make_unexpected(problem);
+  sim::TeamSimConfig config;
+  config.seed = seed;
+  config.mjcf.offscreen_width = std::max(config.mjcf.offscreen_width, width);
+  config.mjcf.offscreen_height = std::max(config.mjcf.offscreen_height, height);
+  return sim::TeamSim::create(scene, {robot}, config);
+}
+
 Result<DepthSequence, std::string> render_depth_sequence(const sim::SceneSpec& scene,
                                                          const DepthSequenceOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -69,18 +87,8 @@ Result<DepthSequence, std::string> render_depth_sequence(const sim::SceneSpec& s
   robot.kind = sim::RobotKind::kGround;
   robot.start_x_m = kLoop[3][0];
   robot.start_y_m = kLoop[3][1];
-  robot.camera.width = o.width;
-  robot.camera.height = o.height;
-  robot.camera.fov_v_deg = fov_v_for(o.width, o.height);
-  robot.camera.min_range_m = o.min_range_m;
-  robot.camera.max_range_m = o.max_range_m;
-  if (const std::string problem = robot.camera.validate(); !problem.empty())
-    return make_unexpected(problem);
-  sim::TeamSimConfig config;
-  config.seed = o.seed;
-  config.mjcf.offscreen_width = std::max(config.mjcf.offscreen_width, o.width);
-  config.mjcf.offscreen_height = std::max(config.mjcf.offscreen_height, o.height);
-  auto made = sim::TeamSim::create(scene, {robot}, config);
+  auto made =
+      make_camera_sim(scene, robot, o.width, o.height, o.min_range_m, o.max_range_m, o.seed);
   if (!made) return make_unexpected(made.error());
   sim::TeamSim& s = **made;
 

@@ -12,12 +12,15 @@
 // frames and, for any resolution, the same poses.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "executors/result.hpp"
 #include "interfaces/geometry.hpp"
+#include "sim/robot_model.hpp"
 #include "sim/scene.hpp"
+#include "sim/team_sim.hpp"
 
 namespace scancrew::bench {
 
@@ -39,6 +42,13 @@ struct DepthSequence {
   double sim_s = 0;
   double wall_s = 0;
 };
+
+// The simulator for a benchmark's one robot, its camera set to width × height with a 90°
+// horizontal FOV and square pixels (vertical FOV 2·atan(h/w)) over [min_range, max_range]:
+// shared by this sequence and bench/ise's flight. Fails on a bad camera or simulator.
+Result<std::unique_ptr<sim::TeamSim>, std::string> make_camera_sim(
+    const sim::SceneSpec& scene, sim::RobotSpec robot, uint32_t width, uint32_t height,
+    double min_range_m, double max_range_m, uint64_t seed);
 
 // Renders the sequence; progress on stderr. Fails when the simulator cannot be made (no
 // GL, a robot start inside an obstacle) or a render fails.
