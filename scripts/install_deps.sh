@@ -23,6 +23,10 @@ PACKAGES=(
   # mapping: parallel integration, patch compression, OctoMap export; Open3D is the
   # side-by-side peer of `scancrew bench tsdf`
   libtbb-dev libzstd-dev liboctomap-dev libopen3d-dev
+  # low-level planner: OMPL LazyPRM* (its CMake config hard-codes the three Boost .so
+  # paths), FCL collision checks against the OctoMap octree; ViSP visual-servoing tracker
+  libompl-dev libboost-serialization-dev libboost-filesystem-dev libboost-system-dev
+  libfcl-dev libvisp-dev
   # style checks run in CI
   clang-format clang-tidy
 )
