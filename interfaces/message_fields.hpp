@@ -20,7 +20,7 @@ namespace scancrew::msg {
 // Version of the binary layout of every message (recordings, inter-robot links). A reader
 // refuses data of another version.
 // 2: TsdfPatch carries the compact patch payload instead of a dense voxel array.
-inline constexpr uint32_t kMessageFormatVersion = 3;
+inline constexpr uint32_t kMessageFormatVersion = 4;
 
 // The binding names only label the members; their order is the declaration order.
 #define SCANCREW_MESSAGE_FIELDS(Type, ...)      \
@@ -50,8 +50,9 @@ SCANCREW_MESSAGE_FIELDS(Odometry, header, T_world_body, linear_velocity_mps, ang
                         pose_covariance, tracking_quality, tracking_resets)
 SCANCREW_MESSAGE_FIELDS(Waypoint, position, yaw_rad)
 SCANCREW_MESSAGE_FIELDS(LocalPath, header, plan_id, waypoints)
-SCANCREW_MESSAGE_FIELDS(PathSequence, robot_id, cluster_ids, viewpoints, utility)
-SCANCREW_MESSAGE_FIELDS(TeamPlan, header, plan_id, sequences)
+SCANCREW_MESSAGE_FIELDS(PathSequence, robot_id, cluster_ids, cluster_utilities, viewpoints,
+                        viewpoint_clusters, ise_centers_m, utility)
+SCANCREW_MESSAGE_FIELDS(TeamPlan, header, plan_id, map_version, sequences, unassigned)
 SCANCREW_MESSAGE_FIELDS(VelocityCommand, header, linear_mps, yaw_rate_radps)
 SCANCREW_MESSAGE_FIELDS(Maneuver, header, kind, aside, because_of_robot)
 SCANCREW_MESSAGE_FIELDS(RobotState, header, T_world_body, mode, plan_id, current_cluster,

@@ -39,17 +39,24 @@ struct LocalPath {
 // visit inside each.
 struct PathSequence {
   uint32_t robot_id = 0;
-  std::vector<uint32_t> cluster_ids;
-  std::vector<Waypoint> viewpoints;
-  double utility = 0;
+  std::vector<uint32_t> cluster_ids;         // in visiting order
+  std::vector<double> cluster_utilities;     // f of the arc into each cluster (eq. 2.3)
+  std::vector<Waypoint> viewpoints;          // in visiting order
+  std::vector<uint32_t> viewpoint_clusters;  // the cluster id of each viewpoint
+  // C_start: the ISE centres the tour's viewpoints see (UtilityCheck, thesis 2.5.3 item 3)
+  std::vector<Vec3> ise_centers_m;
+  double utility = 0;  // p = maxATSP(U)
 };
 
-// The team plan from TSGA / dist-TSGA (thesis 3.5.1, 4.5.1).
+// The team plan from TSGA / dist-TSGA / NNB (thesis 2.5.2, 3.5.1, 4.5.1). Centralized: one
+// sequence per robot; distributed: the sending robot's own.
 struct TeamPlan {
   static constexpr const char* kTypeName = "scancrew/TeamPlan";
   Header header;
   uint64_t plan_id = 0;
+  uint64_t map_version = 0;  // the clusters' map snapshot
   std::vector<PathSequence> sequences;
+  std::vector<uint32_t> unassigned;  // clusters no robot of the team can reach
 };
 
 struct VelocityCommand {

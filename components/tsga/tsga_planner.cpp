@@ -13,6 +13,7 @@ namespace {
 // A cluster's intra-cluster path: its viewpoints in visiting order and its length.
 struct IntraPath {
   std::vector<Eigen::Vector3d> viewpoints;
+  std::vector<uint32_t> indices;  // of the viewpoints in the cluster's list
   double length_m = 0;
 };
 
@@ -21,6 +22,7 @@ Result<IntraPath, std::string> intra_path(const PlanCluster& c, const PlannerOpt
   IntraPath out;
   if (m <= 2) {
     out.viewpoints = c.viewpoints;
+    for (uint32_t i = 0; i < m; ++i) out.indices.push_back(i);
     if (m == 2) out.length_m = (c.viewpoints[1] - c.viewpoints[0]).norm();
     return out;
   }
@@ -36,8 +38,11 @@ Result<IntraPath, std::string> intra_path(const PlanCluster& c, const PlannerOpt
   const auto& nodes = tour->nodes;
   const auto dummy = static_cast<size_t>(
       std::find(nodes.begin(), nodes.end(), static_cast<int>(m)) - nodes.begin());
-  for (size_t i = 1; i <= m; ++i)
-    out.viewpoints.push_back(c.viewpoints[static_cast<size_t>(nodes[(dummy + i) % (m + 1)])]);
+  for (size_t i = 1; i <= m; ++i) {
+    const auto index = static_cast<uint32_t>(nodes[(dummy + i) % (m + 1)]);
+    out.indices.push_back(index);
+    out.viewpoints.push_back(c.viewpoints[index]);
+  }
   for (size_t i = 1; i < m; ++i) out.length_m += (out.viewpoints[i] - out.viewpoints[i - 1]).norm();
   return out;
 }
@@ -77,7 +82,11 @@ class Allocation {
 
   // f of the arc into cluster v from a node leaving at `exit`, for robot r.
   double utility(const PlanRobot& r, const Eigen::Vector3d& exit, size_t v) const {
-    const double d_kl = (paths_[v].viewpoints.front() - exit).norm();
+    const Eigen::Vector3d& entry = paths_[v].viewpoints.front();
+    const double d_kl =
+        options_.travel_distance ? options_.travel_distance(exit, entry) : (entry - exit).norm();
+    // a NaN or infinite travel distance (no path) makes the arc worthless, not the plan bad
+    if (!std::isfinite(d_kl)) return 0.0;
     return clusters_[v].gain *
            std::exp(-r.lambda_tc_per_m * d_kl - r.lambda_ic_per_m * paths_[v].length_m);
   }
@@ -115,6 +124,7 @@ class Allocation {
       p.utility += f;
       p.viewpoints.insert(p.viewpoints.end(), paths_[v].viewpoints.begin(),
                           paths_[v].viewpoints.end());
+      for (uint32_t i : paths_[v].indices) p.viewpoint_refs.push_back({clusters_[v].id, i});
       exit = paths_[v].viewpoints.back();
     }
     return p;

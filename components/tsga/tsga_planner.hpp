@@ -11,8 +11,9 @@
 //     once per planning call: it is entered at its first viewpoint q_l and left at its last
 //     q_m (the thesis recomputes τ_lm per entry point; one path per cluster keeps the
 //     matrix static, so one maxATSP solve per insertion);
-//   d(τ_kl): the straight-line distance from U's exit to V's entry (the roadmap distance of
-//     the low-level planner is a later option), d(τ_lm): the intra path's length;
+//   d(τ_kl): the straight-line distance from U's exit to V's entry, or a caller's distance
+//     (PlannerOptions::travel_distance, e.g. the low-level planner's roadmap), d(τ_lm): the intra
+//     path's length;
 //   f_UV = g(V)·exp(−λ_tc·d(τ_kl) − λ_ic·d(τ_lm)), λ per robot (heterogeneous teams).
 // TSGA: clusters ranked by their distance to the nearest robot that can reach them
 // (ascending); each goes to the robot k maximising maxATSP(U^k ∪ V) − p^k among those whose
@@ -29,6 +30,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -56,14 +58,25 @@ struct PlannerOptions {
   int insertion_iterations = 20;  // ILS kicks per insertion evaluation
   int final_iterations = 300;     // ILS kicks for each robot's final path
   uint64_t seed = 1;
+  // d(τ_kl) from a cluster's exit to the next one's entry: null = straight line; else e.g.
+  // the low-level planner's roadmap distance. Non-finite = unreachable (the arc's f is 0).
+  // Called O(n²) times per maxATSP solve: memoise an expensive one.
+  std::function<double(const Eigen::Vector3d& from, const Eigen::Vector3d& to)> travel_distance;
+};
+
+// A viewpoint of a plan: its cluster and its index in the cluster's viewpoint list.
+struct ViewpointRef {
+  uint32_t cluster_id = 0;
+  uint32_t index = 0;
 };
 
 struct RobotPlan {
   uint32_t robot_id = 0;
-  std::vector<uint32_t> clusters;           // cluster ids in visiting order
-  std::vector<Eigen::Vector3d> viewpoints;  // the path's viewpoints in order
-  std::vector<double> utilities;            // f of each arc taken (per cluster)
-  double utility = 0;                       // p = maxATSP(U^k)
+  std::vector<uint32_t> clusters;            // cluster ids in visiting order
+  std::vector<Eigen::Vector3d> viewpoints;   // the path's viewpoints in order
+  std::vector<ViewpointRef> viewpoint_refs;  // where each of them comes from
+  std::vector<double> utilities;             // f of each arc taken (per cluster)
+  double utility = 0;                        // p = maxATSP(U^k)
 };
 
 struct TeamPlan {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 
@@ -173,6 +174,42 @@ TEST(Tsga, ReallocationFillsAnIdleRobot) {
   const auto nothing = plan_for_idle(idle, now, all);
   ASSERT_TRUE(nothing);
   EXPECT_TRUE(nothing->clusters.empty());
+}
+
+TEST(Tsga, ACallersTravelDistanceReplacesTheStraightLine) {
+  // a wall along x = 10: crossing it costs a 30 m detour; unreachable beyond x = 18
+  const auto detour = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    if (a.x() > 18 || b.x() > 18) return std::numeric_limits<double>::infinity();
+    const double straight = (a - b).norm();
+    return (a.x() < 10) != (b.x() < 10) ? straight + 30 : straight;
+  };
+  PlannerOptions options;
+  options.travel_distance = detour;
+  std::vector<PlanCluster> clusters = random_clusters(12, 21);
+  auto plan = plan_tsga(team(1), clusters, options);
+  ASSERT_TRUE(plan) << plan.error();
+  const RobotPlan& r = plan->robots.front();
+  ASSERT_EQ(r.clusters.size(), clusters.size());
+  ASSERT_EQ(r.viewpoint_refs.size(), r.viewpoints.size());
+  // each arc's f follows eq. 2.3 with the caller's distance (0 where it is infinite)
+  Eigen::Vector3d exit = team(1).front().position;
+  size_t at = 0;
+  for (size_t i = 0; i < r.clusters.size(); ++i) {
+    const PlanCluster& c = clusters[r.clusters[i] - 100];
+    const Eigen::Vector3d entry = r.viewpoints[at];
+    double intra = 0;
+    for (size_t j = 1; j < c.viewpoints.size(); ++j)
+      intra += (r.viewpoints[at + j] - r.viewpoints[at + j - 1]).norm();
+    const double d = detour(exit, entry);
+    const double f = std::isinf(d) ? 0.0 : c.gain * std::exp(-0.5 * d - 0.01 * intra);
+    EXPECT_NEAR(r.utilities[i], f, 1e-12) << "cluster " << c.id;
+    for (size_t j = 0; j < c.viewpoints.size(); ++j) {
+      EXPECT_EQ(r.viewpoint_refs[at + j].cluster_id, c.id);
+      EXPECT_EQ(c.viewpoints[r.viewpoint_refs[at + j].index], r.viewpoints[at + j]);
+    }
+    at += c.viewpoints.size();
+    exit = r.viewpoints[at - 1];
+  }
 }
 
 TEST(Tsga, EdgeCasesHaveDefinedResults) {

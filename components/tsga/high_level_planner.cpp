@@ -1,0 +1,234 @@
+#include "components/tsga/high_level_planner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "executors/log.hpp"
+#include "executors/registry.hpp"
+
+namespace scancrew::tsga {
+
+namespace {
+
+constexpr uint32_t kGroundBit = msg::kGroundRobotBit;
+constexpr uint32_t kMultirotorBit = msg::kMultirotorBit;
+
+void read_penalties(ParamReader& p, const std::string& type, HighLevelPlanner::Penalties& out) {
+  p.optional(type + "_lambda_tc_per_m", out.lambda_tc_per_m, {0, 100});
+  p.optional(type + "_lambda_ic_per_m", out.lambda_ic_per_m, {0, 100});
+}
+
+Eigen::Vector3d vec(const msg::Vec3& v) {
+  return {v.x, v.y, v.z};
+}
+
+msg::Vec3 vec(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+}  // namespace
+
+HighLevelPlanner::Config HighLevelPlanner::read_config(ParamReader& p) {
+  Config c;
+  p.choice("algorithm", c.algorithm, {"tsga", "dist_tsga", "nnb"});
+  p.choice("inter_cluster_distance", c.inter_cluster_distance, {"euclidean", "roadmap"});
+  p.choice("pose_source", c.pose_source, {"pose_gt", "odom"});
+  read_penalties(p, "ground", c.ground);
+  read_penalties(p, "multirotor", c.multirotor);
+  p.optional("insertion_iterations", c.options.insertion_iterations, {0, 100000});
+  p.optional("final_iterations", c.options.final_iterations, {0, 1000000});
+  p.optional("seed", c.options.seed);
+  p.optional("min_replan_period_s", c.min_replan_period_s, {0, 1e6});
+  return c;
+}
+
+HighLevelPlanner::HighLevelPlanner(ComponentContext context, Config config)
+    : Component(std::move(context)), config_(std::move(config)) {}
+
+Result<void, std::string> HighLevelPlanner::on_configure() {
+  if (config_.inter_cluster_distance == "roadmap")
+    return make_unexpected(
+        "inter_cluster_distance: roadmap is not implemented yet (the low-level planner's "
+        "roadmap is not shared with the high-level planner); use euclidean");
+  per_robot_ = robot_id() != 0;
+  if (config_.algorithm == "dist_tsga" && !per_robot_)
+    return make_unexpected("algorithm dist_tsga runs on every robot: set per_robot: true");
+  if (config_.algorithm == "tsga" && per_robot_)
+    return make_unexpected(
+        "algorithm tsga is the centralized planner: set per_robot: false (dist_tsga is the "
+        "per-robot one)");
+  if (team().empty()) return make_unexpected("the launch file has no robots to plan for");
+  for (size_t i = 0; i < team().size(); ++i) {
+    const TeamMember& t = team()[i];
+    Member m;
+    m.id = t.id;
+    m.type_bit = t.kind == "multirotor" ? kMultirotorBit : kGroundBit;
+    m.penalties = t.kind == "multirotor" ? config_.multirotor : config_.ground;
+    m.position = {t.start_x_m, t.start_y_m, t.start_z_m};
+    members_.push_back(m);
+    const std::string ns = "/" + t.ns + "/";
+    create_subscription<msg::Odometry>(
+        ns + config_.pose_source, {.depth = 1}, [this, i](Sample<msg::Odometry>&& s) {
+          const msg::Vec3& p = s->T_world_body.position;
+          if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+            members_[i].position = vec(p);
+          else
+            fail_once("pose", "a non-finite pose of robot " + std::to_string(members_[i].id) +
+                                  " (ignored; its last position stands)");
+        });
+    create_subscription<msg::RobotState>(
+        ns + "robot_state", {.depth = 4},
+        [this, i](Sample<msg::RobotState>&& s) { on_robot_state(i, *s); });
+  }
+  last_.robots.resize(members_.size());
+  for (size_t i = 0; i < members_.size(); ++i) last_.robots[i].robot_id = members_[i].id;
+  plan_pub_ = create_publisher<msg::TeamPlan>("plan", {.pool_size = 2});
+  create_subscription<msg::ViewpointClusters>(
+      "clusters", {.depth = 1}, [this](Sample<msg::ViewpointClusters>&& s) { on_clusters(*s); });
+  create_subscription<msg::IseSet>("ises", {.depth = 1},
+                                   [this](Sample<msg::IseSet>&& s) { ises_ = *s; });
+  return {};
+}
+
+void HighLevelPlanner::on_clusters(const msg::ViewpointClusters& clusters) {
+  clusters_ = clusters;
+  plan_clusters_.clear();
+  plan_clusters_.reserve(clusters.clusters.size());
+  for (const msg::ViewpointCluster& c : clusters.clusters) {
+    PlanCluster pc{.id = c.id, .gain = c.gain, .robot_types = c.robot_types, .viewpoints = {}};
+    pc.viewpoints.reserve(c.viewpoints.size());
+    for (const msg::Viewpoint& v : c.viewpoints) pc.viewpoints.push_back(vec(v.pose.position));
+    plan_clusters_.push_back(std::move(pc));
+  }
+  const int64_t stamp = clusters.header.stamp_ns;
+  const auto period_ns = static_cast<int64_t>(config_.min_replan_period_s * 1e9);
+  if (last_plan_stamp_ns_ && stamp - *last_plan_stamp_ns_ < period_ns) {
+    ++stats_.skipped;
+    return;
+  }
+  plan(stamp, std::nullopt);
+}
+
+void HighLevelPlanner::on_robot_state(size_t member, const msg::RobotState& state) {
+  const msg::RobotState::Mode before = members_[member].mode;
+  members_[member].mode = state.mode;
+  const msg::Vec3& p = state.T_world_body.position;
+  if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+    members_[member].position = vec(p);
+  if (!clusters_ || state.mode == before) return;
+  // only the robots this instance plans for: all (centralized) or its own (per robot)
+  if (per_robot_ && members_[member].id != robot_id()) return;
+  if (state.mode == msg::RobotState::Mode::kPlanning) {
+    plan(state.header.stamp_ns, std::nullopt);
+  } else if (state.mode == msg::RobotState::Mode::kIdle) {
+    const bool realloc = config_.algorithm == "tsga";
+    plan(state.header.stamp_ns, realloc ? std::optional<size_t>(member) : std::nullopt);
+  }
+}
+
+std::vector<PlanRobot> HighLevelPlanner::plan_robots() const {
+  std::vector<PlanRobot> robots;
+  robots.reserve(members_.size());
+  for (const Member& m : members_)
+    robots.push_back({.id = m.id,
+                      .type_bit = m.type_bit,
+                      .position = m.position,
+                      .lambda_tc_per_m = m.penalties.lambda_tc_per_m,
+                      .lambda_ic_per_m = m.penalties.lambda_ic_per_m});
+  return robots;
+}
+
+void HighLevelPlanner::plan(int64_t stamp_ns, std::optional<size_t> idle) {
+  if (!clusters_) return;
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<PlanRobot> robots = plan_robots();
+  TeamPlan next = last_;
+  if (idle) {
+    std::vector<uint32_t> held;
+    for (size_t k = 0; k < last_.robots.size(); ++k)
+      if (k != *idle)
+        held.insert(held.end(), last_.robots[k].clusters.begin(), last_.robots[k].clusters.end());
+    auto mine = plan_for_idle(robots[*idle], plan_clusters_, held, config_.options);
+    if (!mine) return fail_once("clusters", mine.error());
+    next.robots[*idle] = std::move(mine).value();
+    ++stats_.reallocations;
+  } else {
+    auto team = config_.algorithm == "nnb" ? plan_nnb(robots, plan_clusters_, config_.options)
+                                           : plan_tsga(robots, plan_clusters_, config_.options);
+    if (!team) return fail_once("clusters", team.error());
+    next = std::move(team).value();
+  }
+  last_ = std::move(next);
+  last_plan_stamp_ns_ = stamp_ns;
+  const double ms = ms_since(start);
+  ++stats_.plans;
+  ms_sum_ += ms;
+  stats_.max_ms = std::max(stats_.max_ms, ms);
+  stats_.mean_ms = ms_sum_ / static_cast<double>(stats_.plans);
+  publish(last_, stamp_ns);
+}
+
+void HighLevelPlanner::publish(const TeamPlan& plan, int64_t stamp_ns) {
+  auto loan = plan_pub_.loan();
+  if (!loan) return;
+  msg::TeamPlan& m = **loan;
+  m.header.stamp_ns = stamp_ns;
+  m.plan_id = ++plan_id_;
+  m.map_version = clusters_->map_version;
+  m.sequences.clear();
+  m.unassigned = plan.unassigned;
+  // cluster id -> its message, to fetch yaws and seen ISEs
+  std::map<uint32_t, const msg::ViewpointCluster*> by_id;
+  for (const msg::ViewpointCluster& c : clusters_->clusters) by_id[c.id] = &c;
+  const bool ises_match = ises_ && ises_->map_version == clusters_->map_version;
+  for (const RobotPlan& r : plan.robots) {
+    if (per_robot_ && r.robot_id != robot_id()) continue;
+    msg::PathSequence s;
+    s.robot_id = r.robot_id;
+    s.cluster_ids = r.clusters;
+    s.cluster_utilities = r.utilities;
+    s.utility = r.utility;
+    std::vector<uint32_t> seen;
+    for (const ViewpointRef& ref : r.viewpoint_refs) {
+      const msg::Viewpoint& v = by_id.at(ref.cluster_id)->viewpoints.at(ref.index);
+      s.viewpoints.push_back(v.pose);
+      s.viewpoint_clusters.push_back(ref.cluster_id);
+      seen.insert(seen.end(), v.seen_ise.begin(), v.seen_ise.end());
+    }
+    std::sort(seen.begin(), seen.end());
+    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+    if (ises_match)
+      for (uint32_t i : seen)
+        if (i < ises_->centers_m.size()) s.ise_centers_m.push_back(ises_->centers_m[i]);
+    m.sequences.push_back(std::move(s));
+  }
+  (void)plan_pub_.publish(std::move(*loan));
+}
+
+void HighLevelPlanner::fail_once(const std::string& kind, const std::string& message) {
+  ++stats_.skipped;
+  if (failures_logged_[kind]) return;
+  failures_logged_[kind] = true;
+  SCANCREW_LOG_ERROR("%s: %s (the last plan stands; further such errors are counted, not logged)",
+                     qualified_name().c_str(), message.c_str());
+}
+
+void HighLevelPlanner::on_deactivate() {
+  SCANCREW_LOG_INFO(
+      "%s: %s: %llu plans (%.1f ms mean, %.1f max), %llu reallocations to idle robots, %llu "
+      "updates skipped",
+      qualified_name().c_str(), config_.algorithm.c_str(),
+      static_cast<unsigned long long>(stats_.plans), stats_.mean_ms, stats_.max_ms,
+      static_cast<unsigned long long>(stats_.reallocations),
+      static_cast<unsigned long long>(stats_.skipped));
+}
+
+SCANCREW_REGISTER_COMPONENT(HighLevelPlanner, "high_level_planner")
+
+}  // namespace scancrew::tsga

@@ -1,0 +1,114 @@
+#pragma once
+
+// HighLevelPlanner: the planning module's high-level planner (thesis 2.5.2, 3.5.1, 4.5.1).
+// On every cluster update (`clusters`, msg::ViewpointClusters, from the ise_extractor) it
+// allocates the clusters to the team with the configured algorithm (tsga_planner.hpp) and
+// publishes
+//   plan  msg::TeamPlan: per robot the cluster tour, its viewpoints (with yaw and cluster
+//         id), the arc utilities, p = maxATSP(U), and C_start (the ISE centres the tour's
+//         viewpoints see, from `ises`, for the low-level planner's UtilityCheck).
+// algorithm:
+//   tsga       Algorithm 2, centralized: one instance (per_robot: false) plans for the whole
+//              team and publishes every robot's sequence;
+//   dist_tsga  Algorithm 5: one instance per robot, on that robot's own map estimate; the
+//              same allocation, but it publishes only its robot's sequence;
+//   nnb        Algorithm 4 baseline: each robot's best single cluster (all robots' when
+//              centralized, the own robot's when per robot).
+// The robots' positions come from each team member's `<pose_source>` topic
+// (/<namespace>/pose_gt or /<namespace>/odom); before the first one, the launch file's start
+// pose. Each member's `/<namespace>/robot_state` (msg::RobotState) is watched too:
+//   mode kIdle while the planner holds a plan for it: asynchronous reallocation (3.5.1): the
+//     robot gets the clusters no teammate holds (plan_for_idle); centralized tsga only, as
+//     in the thesis; dist_tsga replans the whole allocation instead;
+//   mode kPlanning (the low-level planner asks for an update, Algorithms 1/3/6): a new plan
+//     from the latest clusters at once.
+// min_replan_period_s (sim time, from the message stamps) bounds how often cluster updates
+// are planned; requests and idle robots are served at once.
+//
+// Parameters: algorithm, inter_cluster_distance (euclidean | roadmap), pose_source,
+// `<type>_lambda_tc_per_m` and `<type>_lambda_ic_per_m` for ground and multirotor,
+// insertion_iterations, final_iterations, seed, min_replan_period_s. roadmap (the low-level
+// planner's roadmap distance as d(τ_kl)) is not available yet: choosing it fails at
+// configuration, saying so. Bad clusters (NaN gain, duplicate ids) or poses: the update is
+// skipped with an error logged once per kind; the last plan stands.
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "components/tsga/tsga_planner.hpp"
+#include "executors/component.hpp"
+#include "executors/params.hpp"
+#include "interfaces/map_msgs.hpp"
+#include "interfaces/nav_msgs.hpp"
+
+namespace scancrew::tsga {
+
+class HighLevelPlanner final : public Component {
+ public:
+  static constexpr std::string_view kDescription =
+      "TSGA / dist-TSGA / NNB allocation of viewpoint clusters (thesis 3.5.1, 4.5.1)";
+  struct Penalties {
+    double lambda_tc_per_m = 0;
+    double lambda_ic_per_m = 0;
+  };
+  struct Config {
+    std::string algorithm = "tsga";  // tsga | dist_tsga | nnb
+    std::string inter_cluster_distance = "euclidean";
+    std::string pose_source = "pose_gt";  // pose_gt | odom
+    // table 5.3 (real-world ground robots) and table 2.2 (Powerplant UAV, shortest path)
+    Penalties ground{.lambda_tc_per_m = 0.5, .lambda_ic_per_m = 0.01};
+    Penalties multirotor{.lambda_tc_per_m = 0.3, .lambda_ic_per_m = 0.03};
+    PlannerOptions options;
+    double min_replan_period_s = 0;
+  };
+  static Config read_config(ParamReader& p);
+
+  HighLevelPlanner(ComponentContext context, Config config);
+
+  struct Stats {
+    uint64_t plans = 0;          // published
+    uint64_t reallocations = 0;  // to idle robots
+    uint64_t skipped = 0;        // updates refused (bad input) or throttled
+    double mean_ms = 0, max_ms = 0;
+  };
+  const Stats& stats() const { return stats_; }
+
+ private:
+  struct Member {
+    uint32_t id = 0;
+    uint32_t type_bit = 1;
+    Penalties penalties;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    msg::RobotState::Mode mode = msg::RobotState::Mode::kIdle;
+  };
+
+  Result<void, std::string> on_configure() override;
+  void on_deactivate() override;
+  void on_clusters(const msg::ViewpointClusters& clusters);
+  void on_robot_state(size_t member, const msg::RobotState& state);
+  // Plans from the latest clusters and publishes; `idle`: reallocate to that member only.
+  void plan(int64_t stamp_ns, std::optional<size_t> idle);
+  std::vector<PlanRobot> plan_robots() const;
+  void publish(const TeamPlan& plan, int64_t stamp_ns);
+  void fail_once(const std::string& kind, const std::string& message);
+
+  Config config_;
+  bool per_robot_ = false;
+  std::vector<Member> members_;
+  std::optional<msg::ViewpointClusters> clusters_;
+  std::vector<PlanCluster> plan_clusters_;
+  std::optional<msg::IseSet> ises_;
+  TeamPlan last_;  // the plan in force, one RobotPlan per member
+  std::optional<int64_t> last_plan_stamp_ns_;
+  Publisher<msg::TeamPlan> plan_pub_;
+  uint64_t plan_id_ = 0;
+  std::map<std::string, bool> failures_logged_;
+  Stats stats_;
+  double ms_sum_ = 0;
+};
+
+}  // namespace scancrew::tsga

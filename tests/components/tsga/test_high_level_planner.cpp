@@ -1,0 +1,392 @@
+// The high_level_planner component on sim time with the step executor, fed by a scripted
+// test component (clusters, ISEs, poses, robot states at chosen times): the centralized
+// TSGA plan matches plan_tsga and carries yaws, cluster ids and C_start; dist-TSGA on every
+// robot gives TSGA's partition; an idle robot gets the clusters nobody holds; NNB; a
+// heterogeneous team; bad input and bad configuration.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <random>
+#include <set>
+
+#include "components/tsga/high_level_planner.hpp"
+#include "executors/launch.hpp"
+#include "executors/registry.hpp"
+
+namespace scancrew::tsga {
+namespace {
+
+// What the scripted feeder publishes, and when (sim seconds).
+struct Script {
+  std::vector<std::pair<double, msg::ViewpointClusters>> clusters;
+  std::vector<std::pair<double, msg::IseSet>> ises;
+  // (time, robot index in the team, state)
+  std::vector<std::tuple<double, size_t, msg::RobotState>> states;
+  std::string clusters_topic = "/clusters";
+  std::string ises_topic = "/ises";
+};
+Script g_script;  // NOLINT: set by each test before its launch runs
+
+class Feeder final : public Component {
+ public:
+  static constexpr std::string_view kDescription = "test: scripted clusters and robot states";
+  struct Config {};
+  static Config read_config(ParamReader& /*p*/) { return {}; }
+  Feeder(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
+
+ private:
+  Result<void, std::string> on_configure() override {
+    clusters_ = create_publisher<msg::ViewpointClusters>(g_script.clusters_topic);
+    ises_ = create_publisher<msg::IseSet>(g_script.ises_topic);
+    for (const TeamMember& m : team())
+      states_.push_back(create_publisher<msg::RobotState>("/" + m.ns + "/robot_state"));
+    create_timer(std::chrono::milliseconds(50), [this] { tick(); });
+    return {};
+  }
+  void tick() {
+    const double t = static_cast<double>(clock().now_ns()) * 1e-9;
+    const auto due = [&](double at) { return at <= t + 1e-9 && at > last_ + 1e-9; };
+    for (const auto& [at, m] : g_script.ises)
+      if (due(at))
+        if (auto loan = ises_.loan()) {
+          **loan = m;
+          (*loan)->header.stamp_ns = msg::kStampUnset;
+          (void)ises_.publish(std::move(*loan));
+        }
+    for (const auto& [at, m] : g_script.clusters)
+      if (due(at))
+        if (auto loan = clusters_.loan()) {
+          **loan = m;
+          (*loan)->header.stamp_ns = msg::kStampUnset;
+          (void)clusters_.publish(std::move(*loan));
+        }
+    for (const auto& [at, robot, s] : g_script.states)
+      if (due(at))
+        if (auto loan = states_[robot].loan()) {
+          **loan = s;
+          (*loan)->header.stamp_ns = msg::kStampUnset;
+          (void)states_[robot].publish(std::move(*loan));
+        }
+    last_ = t;
+  }
+  Publisher<msg::ViewpointClusters> clusters_;
+  Publisher<msg::IseSet> ises_;
+  std::vector<Publisher<msg::RobotState>> states_;
+  double last_ = -1;
+};
+
+// Keeps every plan published on /plan and /<ns>/plan.
+class PlanLog final : public Component {
+ public:
+  static constexpr std::string_view kDescription = "test: keeps team plans";
+  struct Config {};
+  static Config read_config(ParamReader& /*p*/) { return {}; }
+  PlanLog(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
+  std::vector<msg::TeamPlan> plans;
+
+ private:
+  Result<void, std::string> on_configure() override {
+    std::vector<std::string> topics{"/plan"};
+    for (const TeamMember& m : team()) topics.push_back("/" + m.ns + "/plan");
+    for (const std::string& t : topics)
+      create_subscription<msg::TeamPlan>(
+          t, {.depth = 16}, [this](Sample<msg::TeamPlan>&& s) { plans.push_back(*s); });
+    return {};
+  }
+};
+
+SCANCREW_REGISTER_COMPONENT(Feeder, "test_hlp_feeder")
+SCANCREW_REGISTER_COMPONENT(PlanLog, "test_hlp_plan_log")
+
+// Random clusters in a 30 m square, 1-4 viewpoints each; every viewpoint sees two ISEs.
+msg::ViewpointClusters random_clusters(size_t n, uint64_t seed, uint32_t types = 3) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> xy(-15, 15), gain(0.01, 0.2), yaw(-3, 3);
+  std::uniform_int_distribution<int> count(1, 4);
+  msg::ViewpointClusters m;
+  m.map_version = 7;
+  m.ise_count = static_cast<uint32_t>(2 * n * 4);
+  uint32_t ise = 0;
+  for (size_t i = 0; i < n; ++i) {
+    msg::ViewpointCluster c;
+    c.id = static_cast<uint32_t>(100 + i);
+    c.gain = gain(rng);
+    c.robot_types = types;
+    const double cx = xy(rng), cy = xy(rng);
+    const int k = count(rng);
+    for (int j = 0; j < k; ++j) {
+      msg::Viewpoint v;
+      v.pose.position = {cx + 0.5 * j, cy - 0.3 * j, 0.35};
+      v.pose.yaw_rad = yaw(rng);
+      v.seen_ise = {ise, ise + 1};
+      ise += 2;
+      v.robot_types = types;
+      c.viewpoints.push_back(v);
+    }
+    c.centroid = c.viewpoints.front().pose.position;
+    m.clusters.push_back(c);
+  }
+  return m;
+}
+
+msg::IseSet ises_for(const msg::ViewpointClusters& clusters) {
+  msg::IseSet s;
+  s.map_version = clusters.map_version;
+  for (uint32_t i = 0; i < 2 * 4 * clusters.clusters.size(); ++i)
+    s.centers_m.push_back({static_cast<double>(i), 0.5, 1.0});
+  return s;
+}
+
+std::vector<PlanCluster> plan_clusters(const msg::ViewpointClusters& m) {
+  std::vector<PlanCluster> out;
+  for (const msg::ViewpointCluster& c : m.clusters) {
+    PlanCluster p{.id = c.id, .gain = c.gain, .robot_types = c.robot_types, .viewpoints = {}};
+    for (const msg::Viewpoint& v : c.viewpoints)
+      p.viewpoints.emplace_back(v.pose.position.x, v.pose.position.y, v.pose.position.z);
+    out.push_back(p);
+  }
+  return out;
+}
+
+const std::string kThreeGround = R"(
+  - {id: 1, namespace: r1, kind: ground, start: [-10, -10, 0, 0]}
+  - {id: 2, namespace: r2, kind: ground, start: [10, -10, 0, 0]}
+  - {id: 3, namespace: r3, kind: ground, start: [0, 12, 0, 0]})";
+
+std::string launch_text(const std::string& robots, const std::string& planner,
+                        double duration_s = 1.0) {
+  return R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: )" +
+         std::to_string(duration_s) + R"(, sim_step_s: 0.05}
+robots:)" +
+         robots +
+         R"(
+components:
+  - {name: feeder, type: test_hlp_feeder, per_robot: false}
+  - )" + planner +
+         R"(
+  - {name: log, type: test_hlp_plan_log, per_robot: false}
+)";
+}
+
+struct PlanRun {
+  std::unique_ptr<Launch> launch;
+  std::vector<msg::TeamPlan> plans;
+  std::vector<HighLevelPlanner*> planners;
+};
+
+PlanRun run(const std::string& text) {
+  PlanRun r;
+  auto launch = Launch::from_string(text, "hlp_test.yaml");
+  EXPECT_TRUE(launch) << (launch ? "" : launch.error().front());
+  if (!launch) return r;
+  r.launch = std::move(launch).value();
+  r.launch->run();
+  for (const auto& c : r.launch->components())
+    if (auto* p = dynamic_cast<HighLevelPlanner*>(c.get())) r.planners.push_back(p);
+  if (auto* log = r.launch->find_component<PlanLog>()) r.plans = log->plans;
+  return r;
+}
+
+std::string config_errors(const std::string& text) {
+  auto launch = Launch::from_string(text, "hlp_bad.yaml");
+  if (!launch) {
+    std::string all;
+    for (const std::string& e : launch.error()) all += e + "\n";
+    return all;
+  }
+  return "";
+}
+
+// robot id -> its clusters, from a plan's sequences
+std::map<uint32_t, std::vector<uint32_t>> partition(const msg::TeamPlan& plan) {
+  std::map<uint32_t, std::vector<uint32_t>> out;
+  for (const msg::PathSequence& s : plan.sequences) out[s.robot_id] = s.cluster_ids;
+  return out;
+}
+
+TEST(HighLevelPlanner, CentralizedTsgaPublishesTheTsgaPlanWithYawsAndIses) {
+  const msg::ViewpointClusters clusters = random_clusters(15, 3);
+  g_script = {};
+  g_script.ises = {{0.1, ises_for(clusters)}};
+  g_script.clusters = {{0.2, clusters}};
+  PlanRun r = run(launch_text(kThreeGround,
+                              "{name: hlp, type: high_level_planner, per_robot: false, params: "
+                              "{algorithm: tsga}}"));
+  ASSERT_EQ(r.plans.size(), 1u);
+  const msg::TeamPlan& plan = r.plans.front();
+  EXPECT_EQ(plan.map_version, 7u);
+  ASSERT_EQ(plan.sequences.size(), 3u);
+
+  const std::vector<PlanRobot> robots{{.id = 1, .type_bit = 1, .position = {-10, -10, 0}},
+                                      {.id = 2, .type_bit = 1, .position = {10, -10, 0}},
+                                      {.id = 3, .type_bit = 1, .position = {0, 12, 0}}};
+  auto expected = plan_tsga(robots, plan_clusters(clusters));
+  ASSERT_TRUE(expected) << expected.error();
+  std::multiset<uint32_t> all;
+  for (size_t k = 0; k < 3; ++k) {
+    const msg::PathSequence& s = plan.sequences[k];
+    EXPECT_EQ(s.robot_id, robots[k].id);
+    EXPECT_EQ(s.cluster_ids, expected->robots[k].clusters);
+    EXPECT_NEAR(s.utility, expected->robots[k].utility, 1e-12);
+    ASSERT_EQ(s.cluster_utilities.size(), s.cluster_ids.size());
+    ASSERT_EQ(s.viewpoint_clusters.size(), s.viewpoints.size());
+    all.insert(s.cluster_ids.begin(), s.cluster_ids.end());
+    // every viewpoint is one of its cluster's, with that viewpoint's yaw; C_start holds the
+    // ISEs the viewpoints see
+    size_t seen = 0;
+    for (size_t i = 0; i < s.viewpoints.size(); ++i) {
+      const msg::ViewpointCluster& c = clusters.clusters[s.viewpoint_clusters[i] - 100];
+      bool found = false;
+      for (const msg::Viewpoint& v : c.viewpoints)
+        found = found || (v.pose.position.x == s.viewpoints[i].position.x &&
+                          v.pose.position.y == s.viewpoints[i].position.y &&
+                          v.pose.yaw_rad == s.viewpoints[i].yaw_rad);
+      EXPECT_TRUE(found) << "viewpoint " << i << " of robot " << s.robot_id;
+      seen += 2;
+    }
+    EXPECT_EQ(s.ise_centers_m.size(), seen);
+  }
+  EXPECT_EQ(all.size(), clusters.clusters.size());
+  EXPECT_EQ(std::set<uint32_t>(all.begin(), all.end()).size(), clusters.clusters.size());
+  ASSERT_EQ(r.planners.size(), 1u);
+  EXPECT_EQ(r.planners[0]->stats().plans, 1u);
+}
+
+TEST(HighLevelPlanner, DistTsgaOnEveryRobotGivesTheCentralizedPartition) {
+  const msg::ViewpointClusters clusters = random_clusters(20, 11);
+  g_script = {};
+  g_script.clusters = {{0.2, clusters}};
+  PlanRun central =
+      run(launch_text(kThreeGround, "{name: hlp, type: high_level_planner, per_robot: false}"));
+  ASSERT_EQ(central.plans.size(), 1u);
+
+  // every robot's instance reads its own /<ns>/clusters: all three get the same message
+  g_script.clusters_topic = "/shared_clusters";
+  PlanRun dist = run(launch_text(kThreeGround,
+                                 "{name: hlp, type: high_level_planner, remap: {clusters: "
+                                 "/shared_clusters}, params: {algorithm: dist_tsga}}"));
+  ASSERT_EQ(dist.planners.size(), 3u);
+  ASSERT_EQ(dist.plans.size(), 3u);
+  std::map<uint32_t, std::vector<uint32_t>> merged;
+  for (const msg::TeamPlan& p : dist.plans) {
+    ASSERT_EQ(p.sequences.size(), 1u) << "a dist-TSGA robot publishes its own path only";
+    merged[p.sequences[0].robot_id] = p.sequences[0].cluster_ids;
+  }
+  EXPECT_EQ(merged, partition(central.plans.front()));
+}
+
+TEST(HighLevelPlanner, AnIdleRobotGetsTheClustersNobodyHolds) {
+  const msg::ViewpointClusters first = random_clusters(12, 5);
+  msg::ViewpointClusters second = random_clusters(18, 5);  // the first 12 and 6 new ones
+  second.map_version = 8;
+  g_script = {};
+  g_script.clusters = {{0.1, first}, {0.3, second}};  // the second is throttled
+  msg::RobotState moving, idle;
+  moving.mode = msg::RobotState::Mode::kMoving;
+  moving.T_world_body.position = {10, -10, 0};
+  idle.mode = msg::RobotState::Mode::kIdle;
+  idle.T_world_body.position = {12, -8, 0};
+  g_script.states = {{0.2, 1, moving}, {0.5, 1, idle}};
+  PlanRun r = run(launch_text(kThreeGround,
+                              "{name: hlp, type: high_level_planner, per_robot: false, params: "
+                              "{min_replan_period_s: 100}}"));
+  ASSERT_EQ(r.plans.size(), 2u);
+  ASSERT_EQ(r.planners.size(), 1u);
+  EXPECT_EQ(r.planners[0]->stats().reallocations, 1u);
+  EXPECT_EQ(r.planners[0]->stats().skipped, 1u);  // the throttled update
+  auto before = partition(r.plans[0]);
+  auto after = partition(r.plans[1]);
+  EXPECT_EQ(after[1], before[1]);
+  EXPECT_EQ(after[3], before[3]);
+  ASSERT_FALSE(after[2].empty());
+  std::set<uint32_t> held(before[1].begin(), before[1].end());
+  held.insert(before[3].begin(), before[3].end());
+  for (uint32_t c : after[2]) EXPECT_EQ(held.count(c), 0u) << c;
+  // it takes every cluster nobody else holds (its old ones and the 6 new ones)
+  EXPECT_EQ(after[2].size(), second.clusters.size() - held.size());
+  EXPECT_EQ(r.plans[1].map_version, 8u);
+}
+
+TEST(HighLevelPlanner, NnbGivesEachRobotOneCluster) {
+  const msg::ViewpointClusters clusters = random_clusters(10, 2);
+  g_script = {};
+  g_script.clusters = {{0.2, clusters}};
+  PlanRun r = run(launch_text(kThreeGround,
+                              "{name: hlp, type: high_level_planner, per_robot: false, params: "
+                              "{algorithm: nnb}}"));
+  ASSERT_EQ(r.plans.size(), 1u);
+  ASSERT_EQ(r.plans[0].sequences.size(), 3u);
+  for (const msg::PathSequence& s : r.plans[0].sequences) EXPECT_EQ(s.cluster_ids.size(), 1u);
+}
+
+TEST(HighLevelPlanner, HeterogeneousTeamOnlyGetsReachableClusters) {
+  msg::ViewpointClusters clusters = random_clusters(12, 9);
+  for (size_t i = 0; i < clusters.clusters.size(); ++i)
+    clusters.clusters[i].robot_types = i % 3 == 0 ? msg::kMultirotorBit : 3;
+  clusters.clusters[5].robot_types = 0;  // nobody can reach it
+  g_script = {};
+  g_script.clusters = {{0.2, clusters}};
+  PlanRun r = run(launch_text(R"(
+  - {id: 1, namespace: r1, kind: ground, start: [-10, -10, 0, 0]}
+  - {id: 2, namespace: u2, kind: multirotor, start: [10, 10, 3, 0]})",
+                              "{name: hlp, type: high_level_planner, per_robot: false}"));
+  ASSERT_EQ(r.plans.size(), 1u);
+  EXPECT_EQ(r.plans[0].unassigned, std::vector<uint32_t>{105});
+  auto p = partition(r.plans[0]);
+  for (uint32_t c : p[1]) EXPECT_NE((c - 100) % 3, 0u) << "a UAV-only cluster went to the UGV";
+  EXPECT_EQ(p[1].size() + p[2].size(), clusters.clusters.size() - 1);
+}
+
+TEST(HighLevelPlanner, BadClustersAreSkippedAndTheNextGoodOnesPlanned) {
+  msg::ViewpointClusters bad = random_clusters(6, 4);
+  bad.clusters[2].gain = std::numeric_limits<double>::quiet_NaN();
+  msg::ViewpointClusters duplicate = random_clusters(6, 4);
+  duplicate.clusters[3].id = duplicate.clusters[1].id;
+  const msg::ViewpointClusters good = random_clusters(6, 4);
+  g_script = {};
+  g_script.clusters = {{0.1, bad}, {0.3, duplicate}, {0.5, good}};
+  PlanRun r =
+      run(launch_text(kThreeGround, "{name: hlp, type: high_level_planner, per_robot: false}"));
+  ASSERT_EQ(r.planners.size(), 1u);
+  EXPECT_EQ(r.planners[0]->stats().skipped, 2u);
+  ASSERT_EQ(r.plans.size(), 1u);
+  size_t assigned = 0;
+  for (const msg::PathSequence& s : r.plans[0].sequences) assigned += s.cluster_ids.size();
+  EXPECT_EQ(assigned, 6u);
+}
+
+TEST(HighLevelPlanner, BadConfigurationsFailWithTheReason) {
+  EXPECT_NE(config_errors(launch_text(kThreeGround,
+                                      "{name: hlp, type: high_level_planner, per_robot: false, "
+                                      "params: {inter_cluster_distance: roadmap}}"))
+                .find("roadmap is not implemented yet"),
+            std::string::npos);
+  EXPECT_NE(config_errors(launch_text(kThreeGround,
+                                      "{name: hlp, type: high_level_planner, per_robot: false, "
+                                      "params: {algorithm: dist_tsga}}"))
+                .find("per_robot: true"),
+            std::string::npos);
+  EXPECT_NE(config_errors(launch_text(kThreeGround, "{name: hlp, type: high_level_planner}"))
+                .find("centralized"),
+            std::string::npos);
+  EXPECT_NE(config_errors(launch_text(kThreeGround,
+                                      "{name: hlp, type: high_level_planner, per_robot: false, "
+                                      "params: {algorithm: lkh}}"))
+                .find("algorithm"),
+            std::string::npos);
+  EXPECT_NE(config_errors(launch_text(kThreeGround,
+                                      "{name: hlp, type: high_level_planner, per_robot: false, "
+                                      "params: {ground_lambda_tc_per_m: -1}}"))
+                .find("ground_lambda_tc_per_m"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace scancrew::tsga
