@@ -1,5 +1,5 @@
 // scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, eval, bench
-// (ipc, sim, perception, tsdf, ise, tsp).
+// (ipc, sim, perception, tsdf, ise, tsp, planner).
 
 #include <CLI/CLI.hpp>
 #include <csignal>
@@ -16,6 +16,7 @@
 #include "bench/ipc/ipc_bench.hpp"
 #include "bench/ise/ise_bench.hpp"
 #include "bench/perception/perception_bench.hpp"
+#include "bench/planner/planner_bench.hpp"
 #include "bench/sim/sim_bench.hpp"
 #include "bench/tsdf/tsdf_bench.hpp"
 #include "bench/tsp/tsp_bench.hpp"
@@ -275,6 +276,28 @@ int main(int argc, char** argv) {
   tsp_cmd->add_option("--repeat", tsp_bench.repeats, "maxATSP instances per size (default 5)")
       ->check(CLI::Range(1, 1000));
 
+  scancrew::bench::PlannerBenchOptions planner_bench;
+  auto* planner_cmd = bench->add_subcommand(
+      "planner", "low-level planner (LazyPRM*): query time, first query and reused roadmap");
+  planner_cmd->add_flag("--json", planner_bench.json, "print one JSON object");
+  planner_cmd
+      ->add_option("--frames", planner_bench.frames,
+                   "frames per scene (default 300 parking lot, 1000 powerplant)")
+      ->check(CLI::Range(1, 100000));
+  planner_cmd
+      ->add_option("--queries", planner_bench.queries, "reused-roadmap queries per scene (100)")
+      ->check(CLI::Range(1, 100000));
+  planner_cmd
+      ->add_option("--firsts", planner_bench.firsts, "first queries, fresh planners (10)")
+      ->check(CLI::Range(1, 10000));
+  planner_cmd->add_flag("--quick", planner_bench.quick,
+                        "80 + 100 frames, 20 + 3 queries per scene (smoke test)");
+  planner_cmd->add_option("--seed", planner_bench.seed, "depth noise, queries, OMPL (default 1)");
+  planner_cmd
+      ->add_option("--scenes", planner_bench.scenes, "parking_lot, powerplant (default both)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"parking_lot", "powerplant"}));
+
   CLI11_PARSE(app, argc, argv);
 
   if (run->parsed()) return cmd_run(launch_path);
@@ -302,6 +325,14 @@ int main(int argc, char** argv) {
   if (ise_cmd->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_ise_bench(ise_bench);
+#else
+    std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
+    return 2;
+#endif
+  }
+  if (planner_cmd->parsed()) {
+#ifdef SCANCREW_WITH_BENCH
+    return scancrew::bench::run_planner_bench(planner_bench);
 #else
     std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
     return 2;

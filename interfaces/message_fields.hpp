@@ -55,8 +55,8 @@ SCANCREW_MESSAGE_FIELDS(PathSequence, robot_id, cluster_ids, cluster_utilities, 
 SCANCREW_MESSAGE_FIELDS(TeamPlan, header, plan_id, map_version, sequences, unassigned)
 SCANCREW_MESSAGE_FIELDS(VelocityCommand, header, linear_mps, yaw_rate_radps)
 SCANCREW_MESSAGE_FIELDS(Maneuver, header, kind, aside, because_of_robot)
-SCANCREW_MESSAGE_FIELDS(RobotState, header, T_world_body, mode, plan_id, current_cluster,
-                        path_index, steps_remaining, path_length_m)
+SCANCREW_MESSAGE_FIELDS(RobotState, header, T_world_body, velocity_mps, mode, plan_id,
+                        current_cluster, path_index, steps_remaining, path_length_m)
 SCANCREW_MESSAGE_FIELDS(MissionStatus, header, phase, ise_remaining, coverage_estimate, elapsed_s)
 
 SCANCREW_MESSAGE_FIELDS(TsdfPatch, header, patch_id, robot_id, index, T_world_patch, voxel_size_m,

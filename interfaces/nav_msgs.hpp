@@ -76,6 +76,8 @@ struct Maneuver {
   uint32_t because_of_robot = 0;
 };
 
+// A robot's state for its team (traffic policy, redundancy check, reallocation) and for the
+// high-level planner (kIdle: reallocate; kPlanning: a replanning request).
 struct RobotState {
   static constexpr const char* kTypeName = "scancrew/RobotState";
   enum class Mode : uint8_t {
@@ -90,11 +92,12 @@ struct RobotState {
   };
   Header header;
   Pose3 T_world_body;
+  Vec3 velocity_mps;  // world frame
   Mode mode = Mode::kIdle;
-  uint64_t plan_id = 0;
-  uint32_t current_cluster = 0;
-  uint32_t path_index = 0;       // progress: index of the next waypoint
-  uint32_t steps_remaining = 0;  // waypoints left to the current goal
+  uint64_t plan_id = 0;          // the plan (tour or local path) being followed
+  uint32_t current_cluster = 0;  // the cluster of the current goal
+  uint32_t path_index = 0;       // progress: index of the next waypoint / viewpoint
+  uint32_t steps_remaining = 0;  // waypoints / viewpoints left
   double path_length_m = 0;      // travelled so far
 };
 

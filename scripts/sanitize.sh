@@ -11,7 +11,8 @@ cmake --preset "$kind" >/dev/null
 # TBB's own work-stealing handshakes as races, so the mapping tests are ASan-only
 # (label "sanitize_asan").
 targets=(test_executors test_no_allocation test_interfaces)
-[ "$kind" = asan ] && targets+=(test_tsdf test_tsdf_mesh test_tsdf_patch test_ise test_tsga_solver)
+[ "$kind" = asan ] && targets+=(test_tsdf test_tsdf_mesh test_tsdf_patch test_ise test_tsga_solver
+  test_tsga_planner test_low_level_planner test_low_level_checks test_tracker_law)
 cmake --build --preset "$kind" --target "${targets[@]}"
 if [ "$kind" = tsan ]; then
   # TSan of g++ 12 cannot map its shadow memory with the 32-bit mmap randomisation of

@@ -38,7 +38,7 @@ HighLevelPlanner::Config HighLevelPlanner::read_config(ParamReader& p) {
   Config c;
   p.choice("algorithm", c.algorithm, {"tsga", "dist_tsga", "nnb"});
   p.choice("inter_cluster_distance", c.inter_cluster_distance, {"euclidean", "roadmap"});
-  p.choice("pose_source", c.pose_source, {"pose_gt", "odom"});
+  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
   read_penalties(p, "ground", c.ground);
   read_penalties(p, "multirotor", c.multirotor);
   p.optional("insertion_iterations", c.options.insertion_iterations, {0, 100000});
@@ -74,7 +74,8 @@ Result<void, std::string> HighLevelPlanner::on_configure() {
     members_.push_back(m);
     const std::string ns = "/" + t.ns + "/";
     create_subscription<msg::Odometry>(
-        ns + config_.pose_source, {.depth = 1}, [this, i](Sample<msg::Odometry>&& s) {
+        ns + (config_.pose_source == "vio" ? "odom" : "pose_gt"), {.depth = 1},
+        [this, i](Sample<msg::Odometry>&& s) {
           const msg::Vec3& p = s->T_world_body.position;
           if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
             members_[i].position = vec(p);

@@ -14,8 +14,8 @@
 //              same allocation, but it publishes only its robot's sequence;
 //   nnb        Algorithm 4 baseline: each robot's best single cluster (all robots' when
 //              centralized, the own robot's when per robot).
-// The robots' positions come from each team member's `<pose_source>` topic
-// (/<namespace>/pose_gt or /<namespace>/odom); before the first one, the launch file's start
+// The robots' positions come from each team member's pose topic (pose_source ground_truth:
+// /<namespace>/pose_gt, vio: /<namespace>/odom); before the first one, the launch file's start
 // pose. Each member's `/<namespace>/robot_state` (msg::RobotState) is watched too:
 //   mode kIdle while the planner holds a plan for it: asynchronous reallocation (3.5.1): the
 //     robot gets the clusters no teammate holds (plan_for_idle); centralized tsga only, as
@@ -58,7 +58,7 @@ class HighLevelPlanner final : public Component {
   struct Config {
     std::string algorithm = "tsga";  // tsga | dist_tsga | nnb
     std::string inter_cluster_distance = "euclidean";
-    std::string pose_source = "pose_gt";  // pose_gt | odom
+    std::string pose_source = "ground_truth";  // ground_truth (pose_gt) | vio (odom)
     // table 5.3 (real-world ground robots) and table 2.2 (Powerplant UAV, shortest path)
     Penalties ground{.lambda_tc_per_m = 0.5, .lambda_ic_per_m = 0.01};
     Penalties multirotor{.lambda_tc_per_m = 0.3, .lambda_ic_per_m = 0.03};

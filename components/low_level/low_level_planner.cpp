@@ -1,0 +1,503 @@
+#include "components/low_level/low_level_planner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "components/low_level/goal_check.hpp"
+#include "components/low_level/map_queries.hpp"
+#include "components/low_level/obstacle_check.hpp"
+#include "components/low_level/redundancy_check.hpp"
+#include "components/low_level/utility_check.hpp"
+#include "executors/log.hpp"
+#include "executors/registry.hpp"
+#include "interfaces/eigen_conversions.hpp"
+
+namespace scancrew::low_level {
+
+namespace {
+
+using Mode = msg::RobotState::Mode;
+
+double yaw_of(const msg::Quat& q) {
+  const Eigen::Matrix3d r = msg::to_eigen(q).toRotationMatrix();
+  return std::atan2(r(1, 0), r(0, 0));
+}
+
+bool finite(const msg::Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+}  // namespace
+
+LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
+  Config c;
+  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
+  p.optional("control_period_s", c.control_period_s, {0.001, 10});
+  p.optional("traffic_policy", c.traffic_policy);
+  p.optional("redundancy_check", c.redundancy_check);
+  p.optional("max_consecutive_failures", c.max_consecutive_failures, {1, 1000});
+  p.optional("replan_timeout_s", c.replan_timeout_s, {0.1, 1e6});
+  p.optional("backoff_max_m", c.backoff_max_m, {0, 100});
+  p.optional("backoff_step_m", c.backoff_step_m, {0.01, 10});
+  p.optional("ground_nominal_speed_mps", c.ground_nominal_speed_mps, {0.01, 100});
+  p.optional("multirotor_nominal_speed_mps", c.multirotor_nominal_speed_mps, {0.01, 100});
+  p.optional("ground_traffic_radius_m", c.ground_traffic_radius_m, {0.01, 100});
+  p.optional("multirotor_traffic_radius_m", c.multirotor_traffic_radius_m, {0.01, 100});
+  c.planner = read_planner_config(p);
+  c.ground_checks = read_checks_config(p, RobotKind::kGround);
+  c.multirotor_checks = read_checks_config(p, RobotKind::kMultirotor);
+  return c;
+}
+
+LowLevelPlanner::LowLevelPlanner(ComponentContext context, Config config)
+    : Component(std::move(context)), config_(std::move(config)) {}
+
+LowLevelPlanner::~LowLevelPlanner() = default;
+
+Result<void, std::string> LowLevelPlanner::on_configure() {
+  const auto self = std::find_if(team().begin(), team().end(),
+                                 [&](const TeamMember& m) { return m.id == robot_id(); });
+  if (self == team().end())
+    return make_unexpected("the low-level planner runs per robot (per_robot: true)");
+  const RobotKind kind = self->kind == "multirotor" ? RobotKind::kMultirotor : RobotKind::kGround;
+  // the launch file's kind decides; robot_type only matters outside a launch file
+  config_.planner.robot_kind = kind;
+  const bool multirotor = kind == RobotKind::kMultirotor;
+  checks_ = multirotor ? config_.multirotor_checks : config_.ground_checks;
+  nominal_speed_mps_ =
+      multirotor ? config_.multirotor_nominal_speed_mps : config_.ground_nominal_speed_mps;
+  traffic_radius_m_ =
+      multirotor ? config_.multirotor_traffic_radius_m : config_.ground_traffic_radius_m;
+  if (std::string problem = checks_.validate(); !problem.empty()) return make_unexpected(problem);
+  auto planner = MotionPlanner::create(config_.planner);
+  if (!planner) return make_unexpected(planner.error());
+  planner_.emplace(std::move(planner).value());
+  traffic_.emplace(checks_.traffic);
+
+  path_pub_ = create_publisher<msg::LocalPath>("local_path", {.pool_size = 2});
+  maneuver_pub_ = create_publisher<msg::Maneuver>("maneuver", {.pool_size = 2});
+  state_pub_ = create_publisher<msg::RobotState>("robot_state", {.pool_size = 4});
+  tour_pub_ = create_publisher<msg::TeamPlan>("tour", {.pool_size = 2});
+  create_subscription<msg::TeamPlan>("plan", {.depth = 4},
+                                     [this](Sample<msg::TeamPlan>&& s) { on_plan(*s); });
+  create_subscription<tsdf::MapUpdate>("map", {.depth = 1}, [this](Sample<tsdf::MapUpdate>&& s) {
+    if (s->map == nullptr) return;
+    map_ = s->map;
+    planner_->update_map(map_, s->header.stamp_ns);
+  });
+  create_subscription<msg::IseSet>("ises", {.depth = 1}, [this](Sample<msg::IseSet>&& s) {
+    const double voxel = map_ ? map_->voxel_m() : config_.planner.collision_check_step_m;
+    current_ises_ = voxel_keys(s->centers_m, voxel);
+    have_ises_ = true;
+  });
+  create_subscription<msg::Odometry>(config_.pose_source == "vio" ? "odom" : "pose_gt",
+                                     {.depth = 1},
+                                     [this](Sample<msg::Odometry>&& s) { on_pose(*s); });
+  for (const TeamMember& m : team()) {
+    if (m.id == robot_id()) continue;
+    const size_t i = teammates_.size();
+    const bool mate_multirotor = m.kind == "multirotor";
+    teammates_.push_back({.id = m.id,
+                          .nominal_speed_mps = mate_multirotor
+                                                   ? config_.multirotor_nominal_speed_mps
+                                                   : config_.ground_nominal_speed_mps,
+                          .traffic_radius_m = mate_multirotor ? config_.multirotor_traffic_radius_m
+                                                              : config_.ground_traffic_radius_m});
+    const std::string ns = "/" + m.ns + "/";
+    create_subscription<msg::RobotState>(ns + "robot_state", {.depth = 1},
+                                         [this, i](Sample<msg::RobotState>&& s) {
+                                           teammates_[i].state = *s;
+                                           teammates_[i].seen = true;
+                                         });
+    create_subscription<msg::LocalPath>(
+        ns + "local_path", {.depth = 1},
+        [this, i](Sample<msg::LocalPath>&& s) { teammates_[i].local_path = s->waypoints; });
+    create_subscription<msg::TeamPlan>(ns + "tour", {.depth = 1},
+                                       [this, i](Sample<msg::TeamPlan>&& s) {
+                                         if (s->sequences.empty()) return;
+                                         teammates_[i].tour = s->sequences.front();
+                                         teammates_[i].tour_plan_id = s->plan_id;
+                                       });
+  }
+  create_timer(std::chrono::nanoseconds(static_cast<int64_t>(config_.control_period_s * 1e9)),
+               [this] { tick(); });
+  return {};
+}
+
+void LowLevelPlanner::on_plan(const msg::TeamPlan& plan) {
+  const auto mine =
+      std::find_if(plan.sequences.begin(), plan.sequences.end(),
+                   [&](const msg::PathSequence& s) { return s.robot_id == robot_id(); });
+  if (mine == plan.sequences.end() || plan.plan_id <= last_plan_id_) return;
+  last_plan_id_ = plan.plan_id;
+  const bool awaited = awaiting_after_ && plan.plan_id > *awaiting_after_;
+  if (!tour_ || tour_->done() || awaited)
+    take(*mine, plan.plan_id);
+  else
+    pending_.emplace(*mine, plan.plan_id);  // on hold until the current goal is reached
+}
+
+void LowLevelPlanner::on_pose(const msg::Odometry& odom) {
+  const msg::Vec3& p = odom.T_world_body.position;
+  if (!finite(p)) {
+    log_once("pose", "a non-finite pose (ignored)");
+    return;
+  }
+  if (last_position_)
+    stats_.path_length_m +=
+        std::hypot(p.x - last_position_->x, p.y - last_position_->y, p.z - last_position_->z);
+  last_position_ = p;
+  pose_ = odom;
+}
+
+double LowLevelPlanner::now_s() {
+  return static_cast<double>(clock().now_ns()) * 1e-9;
+}
+
+void LowLevelPlanner::take(const msg::PathSequence& sequence, uint64_t plan_id) {
+  const double voxel = map_ ? map_->voxel_m() : config_.planner.collision_check_step_m;
+  tour_ = make_tour(plan_id, sequence, voxel);
+  pending_.reset();
+  awaiting_after_.reset();
+  path_sent_ = false;
+  backing_off_.reset();
+  consecutive_failures_ = 0;
+  traffic_->reset();
+  ++stats_.tours;
+  if (auto loan = tour_pub_.loan()) {
+    msg::TeamPlan& m = **loan;
+    m.plan_id = plan_id;
+    m.sequences.assign(1, sequence);
+    m.unassigned.clear();
+    (void)tour_pub_.publish(std::move(*loan));
+  }
+}
+
+void LowLevelPlanner::request_replan(ReplanReason reason, uint32_t because_of,
+                                     const std::string& detail) {
+  if (awaiting_after_) return;
+  awaiting_after_ = last_plan_id_;
+  awaiting_since_s_ = now_s();
+  pending_.reset();  // computed before the reason to replan
+  ++stats_.replans;
+  mode_ = Mode::kPlanning;
+  SCANCREW_LOG_DEBUG("%s: asks for a new plan: %s%s%s", qualified_name().c_str(), to_string(reason),
+                     detail.empty() ? "" : ": ", detail.c_str());
+  (void)because_of;
+}
+
+void LowLevelPlanner::send_maneuver(msg::Maneuver::Kind kind, const msg::Waypoint& aside,
+                                    uint32_t because) {
+  if (kind == last_maneuver_ && kind != msg::Maneuver::Kind::kStepAside) return;
+  last_maneuver_ = kind;
+  if (auto loan = maneuver_pub_.loan()) {
+    (*loan)->kind = kind;
+    (*loan)->aside = aside;
+    (*loan)->because_of_robot = because;
+    (void)maneuver_pub_.publish(std::move(*loan));
+  }
+}
+
+void LowLevelPlanner::tick() {
+  if (!pose_) return;
+  if (awaiting_after_ && now_s() - awaiting_since_s_ > config_.replan_timeout_s) {
+    // unanswered: the high-level planner acts on a change of mode, so pass through kWaiting
+    awaiting_since_s_ = now_s();
+    mode_ = Mode::kWaiting;
+    publish_state();
+    mode_ = Mode::kPlanning;
+    publish_state();
+    return;
+  }
+  if (awaiting_after_) {
+    mode_ = Mode::kPlanning;
+  } else if (!tour_ || tour_->done()) {
+    mode_ = Mode::kIdle;  // the high-level planner reallocates to an idle robot
+  } else if (!path_sent_) {
+    if (!follow_checks()) plan_to_goal();
+  } else {
+    watch_motion();
+  }
+  publish_state();
+}
+
+bool LowLevelPlanner::follow_checks() {
+  if (config_.redundancy_check) {
+    std::vector<TourProgress> others;
+    for (const Teammate& t : teammates_)
+      if (t.seen && t.tour && t.state.plan_id == t.tour_plan_id)
+        others.push_back(
+            tour_progress(t.id, t.state.T_world_body.position, *t.tour, t.state.path_index));
+    const RedundancyResult r = redundancy_check(
+        tour_progress(robot_id(), pose_->T_world_body.position, tour_->sequence, tour_->next),
+        others, checks_.redundancy);
+    if (r.redundancy) {
+      ++stats_.redundancies;
+      const uint32_t winner = r.contests.empty() ? 0 : r.contests.front().winner_id;
+      request_replan(ReplanReason::kRedundancy, winner,
+                     "cluster " + std::to_string(tour_->goal_cluster()) + " is robot " +
+                         std::to_string(winner) + "'s");
+      return true;
+    }
+  }
+  if (have_ises_) {
+    const UtilityStatus u = utility_check(tour_->c_start.size(), remaining_ises(), checks_.utility);
+    if (u.update) {
+      request_replan(ReplanReason::kUtility, 0,
+                     std::to_string(static_cast<int>(100 * u.completed_fraction)) +
+                         " % of the tour's ISEs done");
+      return true;
+    }
+  }
+  return false;
+}
+
+size_t LowLevelPlanner::remaining_ises() const {
+  return count_remaining(tour_->c_start, current_ises_);
+}
+
+void LowLevelPlanner::plan_to_goal() {
+  PlanRequest request;
+  request.start.position = pose_->T_world_body.position;
+  request.start.yaw_rad = yaw_of(pose_->T_world_body.orientation);
+  request.goal = tour_->goal();
+  request.pose_stamp_ns = pose_->header.stamp_ns;
+  const PlanResult r = planner_->plan(request);
+  stats_.plan_ms_sum += r.stats.total_ms;
+  stats_.plan_ms_max = std::max(stats_.plan_ms_max, r.stats.total_ms);
+  switch (r.status) {
+    case PlanStatus::kOk:
+      if (auto loan = path_pub_.loan()) {
+        (*loan)->plan_id = ++local_path_id_;
+        (*loan)->waypoints = r.path;
+        (void)path_pub_.publish(std::move(*loan));
+      }
+      ++stats_.paths;
+      path_sent_ = true;
+      stopped_ = false;
+      consecutive_failures_ = 0;
+      mode_ = Mode::kMoving;
+      send_maneuver(msg::Maneuver::Kind::kResume, {}, 0);
+      return;
+    case PlanStatus::kMapStale:
+      mode_ = Mode::kWaiting;  // the next snapshot answers it
+      log_once("stale", r.message + " (waiting for a newer map)");
+      return;
+    default:
+      break;
+  }
+  ++stats_.plan_failures;
+  ++consecutive_failures_;
+  log_once(std::string(to_string(r.status)),
+           r.message + " (that viewpoint is skipped; further such failures are counted)");
+  if (r.status == PlanStatus::kStartInCollision) {
+    if (auto escape = escape_pose(request.start)) {
+      if (auto loan = path_pub_.loan()) {
+        (*loan)->plan_id = ++local_path_id_;
+        (*loan)->waypoints = {request.start, *escape};
+        (void)path_pub_.publish(std::move(*loan));
+      }
+      backing_off_ = escape;
+      ++stats_.backoffs;
+      path_sent_ = true;
+      stopped_ = false;
+      mode_ = Mode::kMoving;
+      send_maneuver(msg::Maneuver::Kind::kResume, {}, 0);
+      return;
+    }
+    request_replan(ReplanReason::kInfeasible, 0, r.message + ", no free pose near");
+    return;
+  }
+  ++tour_->next;
+  ++tour_->skipped;
+  ++stats_.goals_skipped;
+  if (consecutive_failures_ >= config_.max_consecutive_failures || tour_->done())
+    request_replan(ReplanReason::kInfeasible, 0,
+                   std::to_string(consecutive_failures_) + " viewpoints without a path");
+}
+
+std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& start) const {
+  constexpr int kDirections = 16;
+  const bool multirotor = checks_.obstacle.kind == RobotKind::kMultirotor;
+  for (double r = config_.backoff_step_m; r <= config_.backoff_max_m + 1e-9;
+       r += config_.backoff_step_m) {
+    if (multirotor) {
+      msg::Waypoint up = start;
+      up.position.z += r;
+      if (planner_->is_free(up)) return up;
+    }
+    for (int k = 0; k < kDirections; ++k) {
+      // behind first: the robot stopped facing what it must not hit
+      const double angle =
+          start.yaw_rad + M_PI + 2 * M_PI * (k % 2 == 0 ? k / 2 : -(k + 1) / 2) / kDirections;
+      msg::Waypoint w = start;
+      w.position.x += r * std::cos(angle);
+      w.position.y += r * std::sin(angle);
+      if (planner_->is_free(w)) return w;
+    }
+  }
+  return std::nullopt;
+}
+
+TrafficAgent LowLevelPlanner::self_agent() const {
+  TrafficAgent a;
+  a.id = robot_id();
+  a.position = msg::to_eigen(pose_->T_world_body.position);
+  a.yaw_rad = yaw_of(pose_->T_world_body.orientation);
+  a.velocity_mps = msg::to_eigen(pose_->linear_velocity_mps);
+  a.nominal_speed_mps = nominal_speed_mps_;
+  a.body_radius_m = traffic_radius_m_;
+  return a;
+}
+
+void LowLevelPlanner::watch_motion() {
+  const Eigen::Vector3d position = msg::to_eigen(pose_->T_world_body.position);
+  const double yaw = yaw_of(pose_->T_world_body.orientation);
+  if (backing_off_) {
+    // the tracker stops at the escape pose; then the goal is planned again from there
+    if ((position - msg::to_eigen(backing_off_->position)).norm() <
+        checks_.goal.position_tolerance_m) {
+      backing_off_.reset();
+      path_sent_ = false;
+    }
+    mode_ = Mode::kMoving;
+    return;
+  }
+  const msg::Waypoint& goal = tour_->goal();
+  if (goal_reached(checks_.obstacle.kind, position, yaw, msg::to_eigen(goal.position), goal.yaw_rad,
+                   checks_.goal)) {
+    ++stats_.goals_reached;
+    ++tour_->next;
+    path_sent_ = false;
+    consecutive_failures_ = 0;
+    if (pending_) {
+      auto [sequence, id] = std::move(*pending_);
+      take(sequence, id);
+    }
+    return;
+  }
+  if (map_ && !stopped_) {
+    // only an obstacle ahead of the motion stops the robot: one behind or beside it that
+    // the robot moves away from cannot be hit, and a stop there would never clear
+    const Eigen::Vector3d ahead = checks_.obstacle.kind == RobotKind::kGround
+                                      ? Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0)
+                                      : msg::to_eigen(pose_->linear_velocity_mps).normalized();
+    const ObstacleCheckResult o =
+        obstacle_check(position, yaw, map_->voxel_m(), occupancy_query(map_), checks_.obstacle);
+    if (o.stop() && ahead.allFinite() && ahead.dot(o.nearest_occupied - position) > 0) {
+      stopped_ = true;
+      ++stats_.emergency_stops;
+      send_maneuver(msg::Maneuver::Kind::kStop, {}, 0);
+      mode_ = Mode::kStopped;
+      request_replan(ReplanReason::kObstacle, 0, to_string(o.status));
+      return;
+    }
+  }
+  mode_ = Mode::kMoving;
+  if (!config_.traffic_policy || teammates_.empty()) return;
+  std::vector<TrafficAgent> others;
+  for (const Teammate& t : teammates_) {
+    if (!t.seen || t.state.mode == Mode::kLost) continue;
+    TrafficAgent a;
+    a.id = t.id;
+    a.position = msg::to_eigen(t.state.T_world_body.position);
+    a.yaw_rad = yaw_of(t.state.T_world_body.orientation);
+    a.velocity_mps = msg::to_eigen(t.state.velocity_mps);
+    a.nominal_speed_mps = t.nominal_speed_mps;
+    a.body_radius_m = t.traffic_radius_m;
+    if (t.state.mode == Mode::kMoving && !t.local_path.empty()) {
+      // the rest of its local path: from the waypoint nearest to it
+      size_t nearest = 0;
+      double best = 1e300;
+      for (size_t k = 0; k < t.local_path.size(); ++k) {
+        const double d = (msg::to_eigen(t.local_path[k].position) - a.position).squaredNorm();
+        if (d < best) {
+          best = d;
+          nearest = k;
+        }
+      }
+      for (size_t k = nearest; k < t.local_path.size(); ++k)
+        a.path.push_back(msg::to_eigen(t.local_path[k].position));
+    }
+    others.push_back(std::move(a));
+  }
+  TrafficAgent me = self_agent();
+  FreeSpaceSpec spec;
+  spec.kind = checks_.obstacle.kind;
+  spec.body_radius_m = me.body_radius_m;
+  spec.min_height_m = checks_.obstacle.min_height_m;
+  spec.max_height_m = checks_.obstacle.max_height_m;
+  const FreeSpaceQuery free = map_ ? free_space_query(map_, spec) : FreeSpaceQuery{};
+  const TrafficDecision d = traffic_->update(me, others, free, now_s());
+  switch (d.action) {
+    case TrafficAction::kProceed:
+      break;
+    case TrafficAction::kStopAndWait:
+      if (last_maneuver_ != msg::Maneuver::Kind::kStop) ++stats_.traffic_holds;
+      send_maneuver(msg::Maneuver::Kind::kStop, {}, d.because_of_robot);
+      mode_ = Mode::kWaiting;
+      break;
+    case TrafficAction::kStepAside:
+      if (last_maneuver_ != msg::Maneuver::Kind::kStepAside) {
+        ++stats_.traffic_holds;
+        send_maneuver(msg::Maneuver::Kind::kStepAside,
+                      {.position = msg::to_msg(d.aside_point), .yaw_rad = d.aside_yaw_rad},
+                      d.because_of_robot);
+      }
+      mode_ = Mode::kSteppingAside;
+      break;
+    case TrafficAction::kResume:
+      // back to the tour from where the robot now is: a new path to the goal
+      send_maneuver(msg::Maneuver::Kind::kResume, {}, d.because_of_robot);
+      path_sent_ = false;
+      break;
+  }
+  if (d.request_replan)
+    request_replan(ReplanReason::kTrafficStuck, d.because_of_robot,
+                   "held " + std::to_string(static_cast<int>(d.held_s)) + " s");
+}
+
+void LowLevelPlanner::publish_state() {
+  auto loan = state_pub_.loan();
+  if (!loan) return;
+  msg::RobotState& s = **loan;
+  s.T_world_body = pose_->T_world_body;
+  s.velocity_mps = pose_->linear_velocity_mps;
+  s.mode = mode_;
+  s.plan_id = tour_ ? tour_->plan_id : 0;
+  s.current_cluster = tour_ && !tour_->done() ? tour_->goal_cluster() : 0;
+  s.path_index = tour_ ? static_cast<uint32_t>(tour_->next) : 0;
+  s.steps_remaining = tour_ ? static_cast<uint32_t>(tour_->remaining()) : 0;
+  s.path_length_m = stats_.path_length_m;
+  (void)state_pub_.publish(std::move(*loan));
+}
+
+void LowLevelPlanner::log_once(const std::string& key, const std::string& message) {
+  if (std::find(logged_.begin(), logged_.end(), key) != logged_.end()) return;
+  logged_.push_back(key);
+  SCANCREW_LOG_WARN("%s: %s", qualified_name().c_str(), message.c_str());
+}
+
+void LowLevelPlanner::on_deactivate() {
+  SCANCREW_LOG_INFO(
+      "%s: %llu tours, %llu goals reached, %llu skipped, %llu paths (%.1f ms mean, %.1f max), "
+      "%llu replanning requests, %llu emergency stops, %llu back-offs, %llu traffic holds, %llu "
+      "redundancies, %.1f m travelled",
+      qualified_name().c_str(), static_cast<unsigned long long>(stats_.tours),
+      static_cast<unsigned long long>(stats_.goals_reached),
+      static_cast<unsigned long long>(stats_.goals_skipped),
+      static_cast<unsigned long long>(stats_.paths),
+      stats_.paths + stats_.plan_failures > 0
+          ? stats_.plan_ms_sum / static_cast<double>(stats_.paths + stats_.plan_failures)
+          : 0.0,
+      stats_.plan_ms_max, static_cast<unsigned long long>(stats_.replans),
+      static_cast<unsigned long long>(stats_.emergency_stops),
+      static_cast<unsigned long long>(stats_.backoffs),
+      static_cast<unsigned long long>(stats_.traffic_holds),
+      static_cast<unsigned long long>(stats_.redundancies), stats_.path_length_m);
+}
+
+SCANCREW_REGISTER_COMPONENT(LowLevelPlanner, "low_level_planner")
+
+}  // namespace scancrew::low_level

@@ -1,0 +1,173 @@
+#pragma once
+
+// LowLevelPlanner: a robot's low-level planner (thesis 2.5.3 Algorithm 1, 3.5.2 Algorithm 3,
+// 4.5.2 Algorithm 6). It follows the tour of viewpoints the high-level planner gives it,
+// one goal q at a time: plans a collision-free path to q with LazyPRM* on the latest map
+// (motion_planner.hpp) and sends it to the tracker; checks GoalReached, UtilityCheck,
+// ObstacleCheck, TrafficPolicy and (distributed teams) RedundancyCheck (checks_config.hpp);
+// and asks the high-level planner for a new tour when they say so.
+//
+// Ports (relative: in the robot's namespace; remap `plan` to /plan for a centralized team)
+//   in   plan          msg::TeamPlan     the sequence with this robot's id; a new one is put
+//                                        on hold until the current goal is reached (2.5.3
+//                                        item 2), taken at once when idle or waiting for it
+//   in   map           tsdf::MapUpdate   the robot's map (its estimate in distributed mode)
+//   in   ises          msg::IseSet       C, for UtilityCheck
+//   in   pose_gt|odom  msg::Odometry     by pose_source (ground_truth | vio)
+//   in   /<ns>/robot_state, /<ns>/local_path, /<ns>/tour of every teammate (traffic policy,
+//        redundancy check)
+//   out  local_path    msg::LocalPath    to the tracker (plan_id grows per path)
+//   out  maneuver      msg::Maneuver     stop (obstacle, traffic), step aside, resume
+//   out  robot_state   msg::RobotState   every control period: pose, velocity, mode
+//                                        (kIdle: no tour; kPlanning: waiting for a new
+//                                        plan, which the high-level planner answers;
+//                                        kMoving, kWaiting, kSteppingAside, kStopped),
+//                                        tour plan id, goal cluster, next viewpoint index,
+//                                        viewpoints left, path length travelled
+//   out  tour          msg::TeamPlan     the tour followed (one sequence), for teammates
+//
+// A goal it cannot plan to (no path, goal in collision or unknown space) is skipped,
+// logged once per kind; after max_consecutive_failures skips it asks for a new plan. A
+// start in collision (the robot stopped close to a surface it just discovered) is left by
+// backing off to the nearest free pose, then the goal is planned again; with no free pose
+// near, it asks for a new plan. A stale map (kMapStale) waits for the next one. A request
+// unanswered for replan_timeout_s is sent again (the robot_state mode is toggled through kIdle).
+//
+// Parameters: pose_source, control_period_s, traffic_policy, redundancy_check,
+// max_consecutive_failures, replan_timeout_s, backoff_max_m, backoff_step_m,
+// `<kind>_nominal_speed_mps`,
+// `<kind>_traffic_radius_m`, the planner core's keys
+// (read_planner_config: robot_type is the launch file's kind) and the checks' keys
+// (read_checks_config), docs/low_level_planner.md.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "components/low_level/checks_config.hpp"
+#include "components/low_level/motion_planner.hpp"
+#include "components/low_level/replan_request.hpp"
+#include "components/low_level/tour.hpp"
+#include "components/low_level/traffic_policy.hpp"
+#include "components/tsdf/map_update.hpp"
+#include "executors/component.hpp"
+#include "executors/params.hpp"
+#include "interfaces/map_msgs.hpp"
+#include "interfaces/nav_msgs.hpp"
+
+namespace scancrew::low_level {
+
+class LowLevelPlanner final : public Component {
+ public:
+  static constexpr std::string_view kDescription =
+      "follows the tour: LazyPRM* paths to each viewpoint, goal / utility / obstacle checks, "
+      "traffic policy, redundancy check, replanning requests (thesis 2.5.3, 3.5.2, 4.5.2)";
+  struct Config {
+    std::string pose_source = "ground_truth";  // ground_truth (pose_gt) | vio (odom)
+    double control_period_s = 0.1;
+    bool traffic_policy = true;
+    bool redundancy_check = false;  // distributed teams (Algorithm 6)
+    int max_consecutive_failures = 3;
+    double replan_timeout_s = 10.0;
+    // a start in collision: back off to the nearest free pose within backoff_max_m
+    // (rings backoff_step_m apart, 16 directions; a multirotor also tries up), then plan
+    double backoff_max_m = 1.0, backoff_step_m = 0.1;
+    // the traffic policy's view of every robot of the kind: nominal speed (table 5.3: 0.5
+    // m/s ground; 2.6.1: 0.6 m/s multirotor) and the radius holding its body (the ground
+    // robot of sim/robot_model.hpp: 0.44 x 0.40 m; a multirotor with rotors: 0.5 m)
+    double ground_nominal_speed_mps = 0.5, multirotor_nominal_speed_mps = 0.6;
+    double ground_traffic_radius_m = 0.3, multirotor_traffic_radius_m = 0.5;
+    PlannerConfig planner;
+    // both kinds' defaults, the launch file's keys over each; the robot's kind picks one
+    ChecksConfig ground_checks, multirotor_checks;
+  };
+  static Config read_config(ParamReader& p);
+
+  LowLevelPlanner(ComponentContext context, Config config);
+  ~LowLevelPlanner() override;
+
+  struct Stats {
+    uint64_t paths = 0;          // local paths sent
+    uint64_t plan_failures = 0;  // queries without a path
+    uint64_t goals_reached = 0;
+    uint64_t goals_skipped = 0;
+    uint64_t tours = 0;    // tours taken
+    uint64_t replans = 0;  // requests sent, all reasons
+    uint64_t emergency_stops = 0;
+    uint64_t backoffs = 0;       // starts in collision left by backing off
+    uint64_t traffic_holds = 0;  // stop or step aside maneuvers
+    uint64_t redundancies = 0;
+    double plan_ms_sum = 0, plan_ms_max = 0;
+    double path_length_m = 0;  // travelled
+  };
+  const Stats& stats() const { return stats_; }
+  msg::RobotState::Mode mode() const { return mode_; }
+
+ private:
+  struct Teammate {
+    uint32_t id = 0;
+    double nominal_speed_mps = 0, traffic_radius_m = 0;  // of its kind
+    bool seen = false;
+    msg::RobotState state;
+    std::vector<msg::Waypoint> local_path;
+    std::optional<msg::PathSequence> tour;
+    uint64_t tour_plan_id = 0;
+  };
+
+  Result<void, std::string> on_configure() override;
+  void on_deactivate() override;
+  void on_plan(const msg::TeamPlan& plan);
+  void on_pose(const msg::Odometry& odom);
+  void tick();
+  // Steps of one tick, in the order of Algorithms 1, 3 and 6.
+  bool follow_checks();  // redundancy, utility: true when a new plan was asked for
+  void plan_to_goal();
+  // The nearest free pose around the robot (in a fixed order), if any.
+  std::optional<msg::Waypoint> escape_pose(const msg::Waypoint& start) const;
+  void watch_motion();  // goal reached, obstacle, traffic
+  void take(const msg::PathSequence& sequence, uint64_t plan_id);
+  void request_replan(ReplanReason reason, uint32_t because_of, const std::string& detail);
+  void send_maneuver(msg::Maneuver::Kind kind, const msg::Waypoint& aside, uint32_t because);
+  void publish_state();
+  size_t remaining_ises() const;
+  TrafficAgent self_agent() const;
+  double now_s();
+  void log_once(const std::string& key, const std::string& message);
+
+  Config config_;
+  ChecksConfig checks_;
+  double nominal_speed_mps_ = 0, traffic_radius_m_ = 0;  // the robot's kind's
+  std::optional<MotionPlanner> planner_;
+  std::optional<TrafficPolicy> traffic_;
+  std::shared_ptr<const tsdf::MapSnapshot> map_;
+  std::vector<uint64_t> current_ises_;  // sorted voxel keys of C
+  bool have_ises_ = false;
+  std::optional<msg::Odometry> pose_;
+  std::optional<msg::Vec3> last_position_;
+  std::vector<Teammate> teammates_;
+
+  std::optional<Tour> tour_;
+  std::optional<std::pair<msg::PathSequence, uint64_t>> pending_;  // sequence, plan id
+  uint64_t last_plan_id_ = 0;                                      // the newest plan seen
+  std::optional<uint64_t> awaiting_after_;  // a request is out: take the first plan newer
+  double awaiting_since_s_ = 0;
+  bool path_sent_ = false;                    // a local path to the current goal is out
+  bool stopped_ = false;                      // an emergency stop is in force
+  std::optional<msg::Waypoint> backing_off_;  // the free pose it is backing off to
+  int consecutive_failures_ = 0;
+  uint64_t local_path_id_ = 0;
+  msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
+  msg::Maneuver::Kind last_maneuver_ = msg::Maneuver::Kind::kResume;
+
+  Publisher<msg::LocalPath> path_pub_;
+  Publisher<msg::Maneuver> maneuver_pub_;
+  Publisher<msg::RobotState> state_pub_;
+  Publisher<msg::TeamPlan> tour_pub_;
+  std::vector<std::string> logged_;
+  Stats stats_;
+};
+
+}  // namespace scancrew::low_level

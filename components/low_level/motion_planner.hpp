@@ -1,0 +1,119 @@
+#pragma once
+
+// MotionPlanner: the core of the low-level planner (thesis 2.5.3, Algorithm 1's LazyPRM*
+// call; 3.5.2, 4.5.2): a collision-free path from the robot's pose to a goal pose in the
+// free space of the latest map snapshot.
+//
+//   - LazyPRM* (Hauser 2015) from OMPL (Şucan et al. 2012) on SE(2) for ground robots (the
+//     body at a fixed height) and on R³ × SO(2) (x, y, z, yaw) for multirotors, sampling
+//     inside the observed blocks' box plus a margin (grown to hold start and goal; a
+//     multirotor's z within its altitude limits);
+//   - state validity: the body (robot_body.hpp) against the CollisionMap's FCL octree
+//     (occupied space, unknown too by config), updated incrementally from the snapshots;
+//   - the roadmap is kept across queries (a query only adds its start and goal); when the
+//     map changes, the validity LazyPRM cached for vertices and edges whose body might
+//     reach a changed block is forgotten, so they are checked again on their next use
+//     (LazyPRM trusts a vertex or edge it once found valid for ever, and deletes the
+//     invalid ones); the roadmap is dropped when it grows past roadmap_max_vertices;
+//   - the path is shortcut (OMPL's PathSimplifier: vertex reduction, then shortcutting)
+//     and checked again before it is returned.
+//
+// Bad input gives a status, never an exception or a loop without end: NaN/inf poses
+// (kBadInput), no map or a map older than the pose by more than max_map_age_s
+// (kMapStale), a start whose body collides (kStartInCollision), a goal in unknown space
+// with unknown_is_occupied (kGoalUnknown) or whose body collides (kGoalInCollision), no
+// path within planner_time_limit_s (kNoPath). A failing status is logged once per
+// (status, goal); the caller decides (replan, wait, back off).
+//
+// Thread safety: none; one thread maps and plans. OMPL, FCL and OctoMap stay in the .cpp.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "components/low_level/planner_config.hpp"
+#include "components/tsdf/tsdf_map.hpp"
+#include "executors/result.hpp"
+#include "interfaces/nav_msgs.hpp"
+
+namespace scancrew::low_level {
+
+enum class PlanStatus : uint8_t {
+  kOk,
+  kNoPath,            // none found within the time limit (or the roadmap proved none)
+  kStartInCollision,  // the body at the start overlaps an obstacle (unknown included)
+  kGoalInCollision,   // the body at the goal overlaps an obstacle
+  kGoalUnknown,       // the goal lies in unknown space and unknown_is_occupied
+  kMapStale,          // no map, or the map is older than the pose by > max_map_age_s
+  kBadInput,          // a pose that is not finite, a multirotor goal outside its altitudes
+};
+std::string_view to_string(PlanStatus s);
+
+// Poses: position (m, world) and yaw (rad). A ground robot's z is not planned (its body
+// sits at ground_body_center_z_m); the path carries the start's z.
+struct PlanRequest {
+  msg::Waypoint start;
+  msg::Waypoint goal;
+  int64_t pose_stamp_ns = 0;  // when the start pose was measured (sim or wall time)
+};
+
+struct PlanStats {
+  double total_ms = 0;
+  double solve_ms = 0;          // LazyPRM*
+  double simplify_ms = 0;       // shortcutting and the final check
+  size_t roadmap_vertices = 0;  // after the query
+  size_t roadmap_edges = 0;
+  size_t collision_checks = 0;   // body-against-map tests in this query
+  bool direct = false;           // the straight motion was free: no roadmap search
+  bool roadmap_cleared = false;  // the roadmap was over roadmap_max_vertices and dropped
+  double raw_length_m = 0;       // the roadmap's path, before shortcutting (state distance)
+  double length_m = 0;           // the returned path (state-space distance)
+};
+
+struct PlanResult {
+  PlanStatus status = PlanStatus::kBadInput;
+  std::vector<msg::Waypoint> path;  // start first, goal last; empty unless kOk
+  std::string message;              // why, for the log
+  PlanStats stats;
+};
+
+struct MapUpdateStats {
+  size_t changed_blocks = 0;
+  bool rebuilt = false;
+  size_t forgotten_vertices = 0;  // roadmap vertices / edges whose validity was reset
+  size_t forgotten_edges = 0;
+  double ms = 0;
+};
+
+class MotionPlanner {
+ public:
+  // Fails on an invalid config (the message names the key).
+  static Result<MotionPlanner, std::string> create(const PlannerConfig& config);
+  ~MotionPlanner();
+  MotionPlanner(MotionPlanner&&) noexcept;
+  MotionPlanner& operator=(MotionPlanner&&) noexcept;
+
+  // A new snapshot (non-null) and its stamp (the capture time of its newest depth image).
+  MapUpdateStats update_map(std::shared_ptr<const tsdf::MapSnapshot> map, int64_t stamp_ns);
+
+  PlanResult plan(const PlanRequest& request);
+
+  // Whether the body at this pose is clear of the current map's obstacles (false without a
+  // map).
+  bool is_free(const msg::Waypoint& pose) const;
+  // Drops the roadmap (the next query builds a new one).
+  void clear_roadmap();
+  size_t roadmap_vertices() const;
+  const PlannerConfig& config() const;
+  const RobotBody& body() const;
+
+ private:
+  struct Impl;
+  explicit MotionPlanner(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace scancrew::low_level

@@ -1,0 +1,73 @@
+#pragma once
+
+// Parameters of the low-level planner's core (thesis 2.5.3, Algorithm 1, 3.5.2, 4.5.2;
+// tables 2.1 and 5.3), and read_planner_config(), which reads them from a component's
+// launch parameters. Defaults: the thesis's where it gives one (bodies), else ours
+// (docs/low_level_planner.md lists which).
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+
+#include "components/low_level/robot_body.hpp"
+#include "executors/params.hpp"
+
+namespace scancrew::low_level {
+
+struct PlannerConfig {
+  // key robot_type: ground (SE(2), z fixed) | multirotor (x, y, z, yaw)
+  RobotKind robot_kind = RobotKind::kGround;
+
+  // --- body (thesis 2.5.3: ellipsoid for ground robots, sphere for multirotors) ---
+  // semi-axes along heading, across, vertical; table 5.3 gives 0.55 - 0.25 (the vertical
+  // one is ours: the body spans [centre_z − 0.25, centre_z + 0.25])
+  Eigen::Vector3d ground_body_radii_m = Eigen::Vector3d(0.55, 0.25, 0.25);
+  // height of the ellipsoid's centre above z = 0 (the floor): clear of the floor voxels,
+  // low enough to meet boxes 0.5 m tall
+  double ground_body_center_z_m = 0.5;
+  double multirotor_body_radius_m = 1.0;  // table 2.1
+  // added to every semi-axis: an occupied voxel's box may start up to half a voxel
+  // behind the true surface, so the margin keeps paths clear of the real geometry
+  double body_margin_m = 0.1;
+
+  // --- map ---
+  // unknown voxels (and never-observed blocks) collide like occupied ones
+  bool unknown_is_occupied = true;
+  // a snapshot stamped more than this before the robot's pose is stale (kMapStale)
+  double max_map_age_s = 2.0;
+
+  // --- state space ---
+  // the sampling bounds: the observed blocks' box (grown to hold start and goal) plus this
+  double bounds_margin_m = 2.0;
+  // multirotor altitude limits (body centre), intersected with the bounds
+  double multirotor_min_altitude_m = 1.0;
+  double multirotor_max_altitude_m = 100.0;
+
+  // --- LazyPRM* (Hauser 2015, through OMPL) ---
+  double planner_time_limit_s = 1.0;    // per query (thesis 2.6.1: "below 1 s" on average)
+  double collision_check_step_m = 0.1;  // between the states checked along a motion
+  // 0: stop at the first path found on the roadmap (A* over it: the roadmap's shortest);
+  // > 0: keep growing the roadmap until a path no longer than factor × the straight-line
+  // distance is found, or the time limit
+  double path_cost_factor = 0.0;
+  // the roadmap is dropped and rebuilt when it holds more vertices than this
+  int64_t roadmap_max_vertices = 20000;
+  double goal_tolerance_m = 1e-3;  // the state-space distance at which the goal is reached
+  // OMPL's random seed (process wide, taken once, before the first planner); 0: OMPL's own
+  uint64_t seed = 0;
+
+  // Empty when valid, else what is wrong (names the key).
+  std::string validate() const;
+};
+
+// The body the config describes, the margin added.
+RobotBody body_of(const PlannerConfig& config);
+
+// Reads the keys named above (robot_type, ground_body_radii_m [3], ground_body_center_z_m,
+// multirotor_body_radius_m, body_margin_m, unknown_is_occupied, max_map_age_s,
+// bounds_margin_m, multirotor_min_altitude_m, multirotor_max_altitude_m,
+// planner_time_limit_s, collision_check_step_m, path_cost_factor, roadmap_max_vertices,
+// goal_tolerance_m, planner_seed); problems are collected in the reader.
+PlannerConfig read_planner_config(ParamReader& p);
+
+}  // namespace scancrew::low_level

@@ -1,0 +1,48 @@
+#include "components/tracker/velocity_mapping.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace scancrew::tracker {
+
+namespace {
+double clamp_abs(double x, double limit) {
+  return std::clamp(x, -limit, limit);
+}
+}  // namespace
+
+UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& config) {
+  const double d = std::hypot(law.offset_body_m.x(), law.offset_body_m.y());
+  const double alpha = d > 1e-9 ? std::atan2(law.offset_body_m.y(), law.offset_body_m.x()) : 0.0;
+
+  // far: go to the point, slowing with the heading error, turning on the spot above a limit
+  const double speed = std::min(std::hypot(law.twist.linear_mps.x(), law.twist.linear_mps.y()),
+                                config.max_speed_mps);
+  const double v_far = std::abs(alpha) > config.turn_in_place_rad ? 0.0 : speed * std::cos(alpha);
+  const double omega_far = config.heading_gain * alpha;
+  // near: the twist's unicycle part (forward speed and yaw rate to the target's yaw)
+  const double v_near = law.twist.linear_mps.x();
+  const double omega_near = law.twist.angular_radps.z();
+
+  const double r = config.align_radius_m;
+  const double w = r > 0 ? std::clamp(2.0 * (r - d) / r, 0.0, 1.0) : 0.0;
+  UnicycleCommand cmd;
+  cmd.v_mps = clamp_abs((1 - w) * v_far + w * v_near, config.max_speed_mps);
+  cmd.omega_radps = clamp_abs((1 - w) * omega_far + w * omega_near, config.max_yaw_rate_radps);
+  return cmd;
+}
+
+MultirotorCommand to_multirotor(const LawOutput& law, const MultirotorMappingConfig& config) {
+  MultirotorCommand cmd;
+  const Eigen::Vector3d& v = law.twist.linear_mps;
+  double scale = 1.0;
+  const double norm = v.norm();
+  if (norm > config.max_speed_mps) scale = config.max_speed_mps / norm;
+  if (std::abs(v.z()) * scale > config.max_vertical_speed_mps)
+    scale = config.max_vertical_speed_mps / std::abs(v.z());
+  cmd.linear_mps = v * scale;
+  cmd.yaw_rate_radps = clamp_abs(law.twist.angular_radps.z(), config.max_yaw_rate_radps);
+  return cmd;
+}
+
+}  // namespace scancrew::tracker

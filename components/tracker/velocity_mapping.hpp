@@ -1,0 +1,57 @@
+#pragma once
+
+// From the tracking law's body twist (tracking_law.hpp) to the commands a robot takes,
+// with the speed limits of its type (nominal speeds: thesis table 5.3, 0.5 m/s for the
+// ground robots; tables 3.1/4.1, 0.6 m/s for the multirotors).
+//
+// Ground robot (unicycle, differential drive: v forward, ω yaw rate; no lateral motion).
+// With o the target's horizontal offset in the body frame, d = |o|, α = atan2(o_y, o_x):
+//   far   (d ≥ align_radius):    steer at the target point (a go-to-point law)
+//           v = 0 if |α| > turn_in_place_rad (turn on the spot), else min(|v_xy|, v_max)·cos α
+//           ω = heading_gain · α
+//   near  (d ≤ align_radius/2):  the PBVS twist's own unicycle part: v = v_x (may reverse),
+//           ω = ω_z (turns to the target's yaw)
+//   between: a linear blend of the two. Then |v| ≤ max_speed, |ω| ≤ max_yaw_rate.
+// The far law ignores the target's yaw: on a path the look-ahead point pulls the robot
+// along; at the goal the near law turns it to the final yaw with at most align_radius of
+// position error.
+// Multirotor (holonomic, yaw-controlled): (v_x, v_y, v_z) = the PBVS linear twist scaled
+// down (direction kept) so that |v| ≤ max_speed and |v_z| ≤ max_vertical_speed;
+// yaw rate = ω_z clamped to max_yaw_rate.
+//
+// Pure functions; thread safe; no allocation.
+
+#include <Eigen/Core>
+
+#include "components/tracker/tracking_law.hpp"
+
+namespace scancrew::tracker {
+
+struct GroundMappingConfig {
+  double max_speed_mps = 0.5;  // thesis table 5.3 (robot nominal speed)
+  double max_yaw_rate_radps = 1.0;
+  double heading_gain = 2.0;       // 1/s
+  double turn_in_place_rad = 1.0;  // heading error above which the robot turns on the spot
+  double align_radius_m = 0.1;     // within it the robot turns to the target's yaw
+};
+
+struct MultirotorMappingConfig {
+  double max_speed_mps = 0.6;  // thesis tables 3.1, 4.1 (UAV nominal speed)
+  double max_vertical_speed_mps = 0.5;
+  double max_yaw_rate_radps = 1.0;
+};
+
+struct UnicycleCommand {
+  double v_mps = 0;        // forward
+  double omega_radps = 0;  // yaw rate
+};
+
+struct MultirotorCommand {
+  Eigen::Vector3d linear_mps = Eigen::Vector3d::Zero();  // body heading frame
+  double yaw_rate_radps = 0;
+};
+
+UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& config);
+MultirotorCommand to_multirotor(const LawOutput& law, const MultirotorMappingConfig& config);
+
+}  // namespace scancrew::tracker
