@@ -19,6 +19,9 @@ namespace {
 
 using Mode = msg::RobotState::Mode;
 
+// slower than this, a teammate off kMoving is taken as holding its place (m/s)
+constexpr double kMovingSpeedMps = 0.05;
+
 double yaw_of(const msg::Quat& q) {
   const Eigen::Matrix3d r = msg::to_eigen(q).toRotationMatrix();
   return std::atan2(r(1, 0), r(0, 0));
@@ -160,6 +163,8 @@ void LowLevelPlanner::take(const msg::PathSequence& sequence, uint64_t plan_id) 
   tour_ = make_tour(plan_id, sequence, voxel);
   pending_.reset();
   awaiting_after_.reset();
+  // an empty tour: the path the tracker may still follow leads nowhere now
+  if (sequence.viewpoints.empty() && path_sent_) send_maneuver(msg::Maneuver::Kind::kStop, {}, 0);
   path_sent_ = false;
   backing_off_.reset();
   consecutive_failures_ = 0;
@@ -289,9 +294,10 @@ void LowLevelPlanner::plan_to_goal() {
   }
   ++stats_.plan_failures;
   ++consecutive_failures_;
-  log_once(std::string(to_string(r.status)),
-           r.message + " (that viewpoint is skipped; further such failures are counted)");
   if (r.status == PlanStatus::kStartInCollision) {
+    log_once("start", r.message +
+                          " (backing off to the nearest free pose; further such "
+                          "cases are counted)");
     if (auto escape = escape_pose(request.start)) {
       if (auto loan = path_pub_.loan()) {
         (*loan)->plan_id = ++local_path_id_;
@@ -309,6 +315,8 @@ void LowLevelPlanner::plan_to_goal() {
     request_replan(ReplanReason::kInfeasible, 0, r.message + ", no free pose near");
     return;
   }
+  log_once(std::string(to_string(r.status)),
+           r.message + " (that viewpoint is skipped; further such failures are counted)");
   ++tour_->next;
   ++tour_->skipped;
   ++stats_.goals_skipped;
@@ -406,7 +414,10 @@ void LowLevelPlanner::watch_motion() {
     a.velocity_mps = msg::to_eigen(t.state.velocity_mps);
     a.nominal_speed_mps = t.nominal_speed_mps;
     a.body_radius_m = t.traffic_radius_m;
-    if (t.state.mode == Mode::kMoving && !t.local_path.empty()) {
+    // a teammate still on its last path (it may be waiting for a plan meanwhile) has the
+    // rest of it ahead; one at rest off a path holds its place
+    const bool moving = t.state.mode == Mode::kMoving || a.velocity_mps.norm() > kMovingSpeedMps;
+    if (moving && !t.local_path.empty()) {
       // the rest of its local path: from the waypoint nearest to it
       size_t nearest = 0;
       double best = 1e300;
