@@ -5,10 +5,34 @@
 #include <gtest/gtest.h>
 
 #include "executors/launch.hpp"
+#include "executors/registry.hpp"
 #include "tests/executors/test_components.hpp"
 
 namespace scancrew {
 namespace {
+
+// Keeps its string parameters, to check what the launch file handed it.
+class Named final : public Component {
+ public:
+  static constexpr std::string_view kDescription = "test: keeps its label parameters";
+  struct Config {
+    std::string label;
+    std::vector<std::string> labels;
+  };
+  static Config read_config(ParamReader& p) {
+    Config c;
+    p.optional("label", c.label);
+    p.optional_list("labels", c.labels);
+    return c;
+  }
+  Named(ComponentContext c, Config config) : Component(std::move(c)), config_(std::move(config)) {}
+  const Config& config() const { return config_; }
+
+ private:
+  Result<void, std::string> on_configure() override { return {}; }
+  Config config_;
+};
+SCANCREW_REGISTER_COMPONENT(Named, "test_named")
 
 constexpr const char* kGood = R"(
 clock: sim
@@ -234,6 +258,32 @@ components:
   EXPECT_GE(ran, 0.3);
   EXPECT_LT(ran, 5.0);
   EXPECT_GT((*launch)->graph().stats().front().taken, 0u);
+}
+
+TEST(Launch, PerRobotParametersNameTheirRobot) {
+  auto launch = Launch::from_string(R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: 0.1, sim_step_s: 0.05}
+robots:
+  - {id: 1, namespace: r1}
+  - {id: 7, namespace: scout}
+components:
+  - {name: per, type: test_named, params: {label: "/tmp/mesh_{ns}_{id}.ply", labels: ["{ns}", "x{id}{id}"]}}
+  - {name: one, type: test_named, per_robot: false, params: {label: "/tmp/{ns}.ply"}}
+)",
+                                    "named.yaml");
+  ASSERT_TRUE(launch) << launch.error().front();
+  std::vector<std::string> labels;
+  for (const auto& c : (*launch)->components())
+    if (const auto* n = dynamic_cast<const Named*>(c.get())) {
+      labels.push_back(n->config().label);
+      for (const std::string& l : n->config().labels) labels.push_back(l);
+    }
+  // per robot: substituted; a station component has no robot: left as written
+  EXPECT_EQ(labels,
+            (std::vector<std::string>{"/tmp/mesh_r1_1.ply", "r1", "x11", "/tmp/mesh_scout_7.ply",
+                                      "scout", "x77", "/tmp/{ns}.ply"}));
 }
 
 }  // namespace
