@@ -80,21 +80,6 @@ Case powerplant_case() {
   return c;
 }
 
-tsdf::DepthFrame frame_of(const std::vector<float>& depth_m, const msg::CameraIntrinsics& k,
-                          const msg::Pose3& T_world_cam) {
-  tsdf::DepthFrame frame;
-  frame.depth_m = depth_m.data();
-  frame.size = depth_m.size();
-  frame.width = k.width;
-  frame.height = k.height;
-  frame.fx = k.fx;
-  frame.fy = k.fy;
-  frame.cx = k.cx;
-  frame.cy = k.cy;
-  frame.T_world_cam = msg::to_eigen(T_world_cam);
-  return frame;
-}
-
 // The per-stage split of a set of updates (means), as IseStats reports it.
 Json stages(const std::vector<ise::IseStats>& stats) {
   double extract = 0, viewpoints = 0, visibility = 0, cluster = 0;
@@ -360,7 +345,8 @@ int run_ise_bench(const IseBenchOptions& o) {
       std::fprintf(stderr, "%s voxel %.1f m: %zu updates\n", c.scene.c_str(), c.tsdf.voxel_m,
                    seq->depth_m.size());
       for (size_t i = 0; i < seq->depth_m.size(); ++i)
-        if (auto r = run.add(frame_of(seq->depth_m[i], seq->intrinsics, seq->T_world_cam[i])); !r) {
+        if (auto r = run.add(depth_frame(seq->depth_m[i], seq->intrinsics, seq->T_world_cam[i]));
+            !r) {
           std::fprintf(stderr, "bench ise: %s\n", r.error().c_str());
           return 1;
         }
@@ -379,7 +365,7 @@ int run_ise_bench(const IseBenchOptions& o) {
       std::fprintf(stderr, "%s voxel %.1f m: an update per frame\n", c.scene.c_str(),
                    c.tsdf.voxel_m);
       const auto lap = fly_lap(*scene, flight, [&](const msg::DepthImage& d) {
-        return run.add(frame_of(d.depth_m, d.intrinsics, d.T_world_cam));
+        return run.add(depth_frame(d.depth_m, d.intrinsics, d.T_world_cam));
       });
       if (!lap) {
         std::fprintf(stderr, "bench ise: %s: %s\n", c.scene.c_str(), lap.error().c_str());

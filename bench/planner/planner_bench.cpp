@@ -83,21 +83,6 @@ Case powerplant_case(uint64_t seed) {
   return c;
 }
 
-tsdf::DepthFrame frame_of(const std::vector<float>& depth_m, const msg::CameraIntrinsics& k,
-                          const Eigen::Isometry3d& T_world_cam) {
-  tsdf::DepthFrame f;
-  f.depth_m = depth_m.data();
-  f.size = depth_m.size();
-  f.width = k.width;
-  f.height = k.height;
-  f.fx = k.fx;
-  f.fy = k.fy;
-  f.cx = k.cx;
-  f.cy = k.cy;
-  f.T_world_cam = T_world_cam;
-  return f;
-}
-
 // The robot's pose under a camera: heading along the optical axis; a ground robot's body
 // frame is on the floor, mount_forward_m behind the camera; a multirotor's camera is at
 // its centre (flight_sequence.hpp).
@@ -447,8 +432,7 @@ int run_planner_bench(const PlannerBenchOptions& o) {
         return 1;
       }
       for (size_t i = 0; i < seq->depth_m.size(); ++i)
-        if (auto r = run.add(
-                frame_of(seq->depth_m[i], seq->intrinsics, msg::to_eigen(seq->T_world_cam[i])));
+        if (auto r = run.add(depth_frame(seq->depth_m[i], seq->intrinsics, seq->T_world_cam[i]));
             !r) {
           std::fprintf(stderr, "bench planner: %s\n", r.error().c_str());
           return 1;
@@ -465,7 +449,7 @@ int run_planner_bench(const PlannerBenchOptions& o) {
       flight.max_range_m = c.tsdf.max_range_m;
       flight.seed = o.seed;
       const auto lap = fly_lap(*scene, flight, [&](const msg::DepthImage& d) {
-        return run.add(frame_of(d.depth_m, d.intrinsics, msg::to_eigen(d.T_world_cam)));
+        return run.add(depth_frame(d.depth_m, d.intrinsics, d.T_world_cam));
       });
       if (!lap) {
         std::fprintf(stderr, "bench planner: %s: %s\n", c.scene.c_str(), lap.error().c_str());

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "interfaces/eigen_conversions.hpp"
 #include "sim/team_sim.hpp"
 
 namespace scancrew::bench {
@@ -121,6 +122,21 @@ Result<DepthSequence, std::string> render_depth_sequence(const sim::SceneSpec& s
   out.sim_s = static_cast<double>(s.time_ns()) * 1e-9;
   out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+tsdf::DepthFrame depth_frame(const std::vector<float>& depth_m, const msg::CameraIntrinsics& k,
+                             const msg::Pose3& T_world_cam) {
+  tsdf::DepthFrame frame;
+  frame.depth_m = depth_m.data();
+  frame.size = depth_m.size();
+  frame.width = k.width;
+  frame.height = k.height;
+  frame.fx = k.fx;
+  frame.fy = k.fy;
+  frame.cx = k.cx;
+  frame.cy = k.cy;
+  frame.T_world_cam = msg::to_eigen(T_world_cam);
+  return frame;
 }
 
 }  // namespace scancrew::bench

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "components/tsdf/integrator.hpp"
 #include "executors/result.hpp"
 #include "interfaces/geometry.hpp"
 #include "sim/robot_model.hpp"
@@ -54,5 +55,9 @@ Result<std::unique_ptr<sim::TeamSim>, std::string> make_camera_sim(
 // GL, a robot start inside an obstacle) or a render fails.
 Result<DepthSequence, std::string> render_depth_sequence(const sim::SceneSpec& scene,
                                                          const DepthSequenceOptions& options);
+
+// One depth image as the integrator takes it (a view: `depth_m` must outlive the frame).
+tsdf::DepthFrame depth_frame(const std::vector<float>& depth_m, const msg::CameraIntrinsics& k,
+                             const msg::Pose3& T_world_cam);
 
 }  // namespace scancrew::bench

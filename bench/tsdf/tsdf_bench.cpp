@@ -96,16 +96,7 @@ Result<SystemRun, std::string> run_scancrew(const DepthSequence& seq, const Case
   SystemRun run;
   run.integrate_ms.reserve(seq.depth_m.size());
   for (size_t i = 0; i < seq.depth_m.size(); ++i) {
-    tsdf::DepthFrame frame;
-    frame.depth_m = seq.depth_m[i].data();
-    frame.size = seq.depth_m[i].size();
-    frame.width = k.width;
-    frame.height = k.height;
-    frame.fx = k.fx;
-    frame.fy = k.fy;
-    frame.cx = k.cx;
-    frame.cy = k.cy;
-    frame.T_world_cam = msg::to_eigen(seq.T_world_cam[i]);
+    const tsdf::DepthFrame frame = depth_frame(seq.depth_m[i], k, seq.T_world_cam[i]);
     const auto t0 = Clock::now();
     const auto stats = integrator.integrate(map, frame);
     run.integrate_ms.push_back(ms_since(t0));
