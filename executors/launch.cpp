@@ -16,33 +16,6 @@ namespace scancrew {
 
 namespace {
 
-// A per-robot component's parameters with "{ns}" and "{id}" in its strings replaced by the
-// robot's namespace and id (a file name per robot, say); the spec's node is left as is.
-void replace_robot_names(YAML::Node node, const std::string& ns, const std::string& id) {
-  if (node.IsScalar()) {
-    auto text = node.as<std::string>();
-    bool changed = false;
-    for (const auto& [key, value] : {std::pair{std::string("{ns}"), ns}, {"{id}", id}})
-      for (size_t at = text.find(key); at != std::string::npos; at = text.find(key, at)) {
-        text.replace(at, key.size(), value);
-        at += value.size();
-        changed = true;
-      }
-    if (changed) node = text;
-  } else if (node.IsSequence()) {
-    for (YAML::Node child : node) replace_robot_names(child, ns, id);
-  } else if (node.IsMap()) {
-    for (auto entry : node) replace_robot_names(entry.second, ns, id);
-  }
-}
-
-YAML::Node with_robot_names(const YAML::Node& params, const std::string& ns, uint32_t id) {
-  if (!params.IsDefined() || params.IsNull()) return params;
-  YAML::Node copy = YAML::Clone(params);
-  replace_robot_names(copy, ns, std::to_string(id));
-  return copy;
-}
-
 using RobotSpec = TeamMember;
 
 struct ComponentSpec {
@@ -331,9 +304,11 @@ class LaunchBuilder {
         auto& group = groups[group_key];
         if (!group) group = std::make_shared<CallbackGroup>(group_key, spec.group_type);
         ctx.callback_group = group;
-        const YAML::Node robot_params =
-            spec.per_robot ? with_robot_names(spec.params, robot.ns, robot.id) : spec.params;
-        ParamReader params = make_param_reader(robot_params, file_, spec.path + ".params");
+        // a per-robot component's strings name their robot: "{ns}", "{id}"
+        std::vector<std::pair<std::string, std::string>> names;
+        if (spec.per_robot) names = {{"{ns}", robot.ns}, {"{id}", std::to_string(robot.id)}};
+        ParamReader params =
+            make_param_reader(spec.params, file_, spec.path + ".params", std::move(names));
         auto made = registry.find(spec.type)->factory(std::move(ctx), params);
         if (!made) {
           // the same parameters go to every robot: report them once

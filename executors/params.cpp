@@ -32,9 +32,23 @@ std::optional<std::string> read_text_file(const std::string& path) {
   return text.str();
 }
 
+std::string substitute(std::string text,
+                       const std::vector<std::pair<std::string, std::string>>& substitutions) {
+  for (const auto& [from, to] : substitutions) {
+    if (from.empty()) continue;
+    for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at)) {
+      text.replace(at, from.size(), to);
+      at += to.size();
+    }
+  }
+  return text;
+}
+
 ParamReader make_param_reader(const YAML::Node& node, const std::string& file,
-                              const std::string& path) {
+                              const std::string& path,
+                              std::vector<std::pair<std::string, std::string>> substitutions) {
   auto impl = std::make_unique<ParamReader::Impl>();
+  impl->substitutions = std::move(substitutions);
   // a missing key yields an invalid node in yaml-cpp, on which type queries throw
   impl->node = node.IsDefined() ? node : YAML::Node(YAML::NodeType::Null);
   impl->file = file;
@@ -162,6 +176,8 @@ void ParamReader::read(std::string_view key, T& value, Range range, bool is_requ
     error(key, shown + " has the wrong type; allowed: " + allowed);
     return;
   }
+  if constexpr (std::is_same_v<T, std::string>)
+    parsed = substitute(std::move(parsed), impl_->substitutions);
   if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
     const auto v = static_cast<double>(parsed);
     if (v < r.min || v > r.max) {
@@ -250,7 +266,7 @@ void ParamReader::optional_list(std::string_view key, std::vector<std::string>& 
       error(key, "an element is not a string; allowed: a list of strings");
       return;
     }
-    parsed.push_back(element.Scalar());
+    parsed.push_back(substitute(element.Scalar(), impl_->substitutions));
   }
   value = std::move(parsed);
 }

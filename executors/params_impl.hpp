@@ -6,6 +6,8 @@
 
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "executors/params.hpp"
 #include "executors/result.hpp"
@@ -16,7 +18,13 @@ struct ParamReader::Impl {
   YAML::Node node;   // a mapping, or null/undefined for "no parameters"
   std::string file;  // the launch file
   std::string path;  // e.g. "components[2].params"
+  // replaced in every string read (a per-robot component's "{ns}", "{id}")
+  std::vector<std::pair<std::string, std::string>> substitutions;
 };
+
+// `text` with every `from` of `substitutions` replaced by its `to`.
+std::string substitute(std::string text,
+                       const std::vector<std::pair<std::string, std::string>>& substitutions);
 
 // "file:line" of a node (line 1-based), or just the file when the node has no mark.
 std::string yaml_location(const std::string& file, const YAML::Node& node);
@@ -27,6 +35,7 @@ Result<YAML::Node, std::string> parse_yaml(const std::string& text, const std::s
 std::optional<std::string> read_text_file(const std::string& path);
 
 ParamReader make_param_reader(const YAML::Node& node, const std::string& file,
-                              const std::string& path);
+                              const std::string& path,
+                              std::vector<std::pair<std::string, std::string>> substitutions = {});
 
 }  // namespace scancrew
