@@ -287,8 +287,7 @@ int main(int argc, char** argv) {
   planner_cmd
       ->add_option("--queries", planner_bench.queries, "reused-roadmap queries per scene (100)")
       ->check(CLI::Range(1, 100000));
-  planner_cmd
-      ->add_option("--firsts", planner_bench.firsts, "first queries, fresh planners (10)")
+  planner_cmd->add_option("--firsts", planner_bench.firsts, "first queries, fresh planners (10)")
       ->check(CLI::Range(1, 10000));
   planner_cmd->add_flag("--quick", planner_bench.quick,
                         "80 + 100 frames, 20 + 3 queries per scene (smoke test)");

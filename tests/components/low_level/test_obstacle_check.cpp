@@ -94,8 +94,10 @@ TEST(ObstacleCheck, BadInputStopsTheRobotWithAStatusNotACrash) {
   EXPECT_EQ(obstacle_check({0, 0, 0}, 0, 0.1, OccupancyQuery{}, kGround).status,
             ObstacleStatus::kBadInput);
   // a voxel size far too small for the volume: refused, not looped over
-  EXPECT_EQ(obstacle_check({0, 0, 0}, 0, 1e-6, none, kMultirotor).status, ObstacleStatus::kBadInput);
-  EXPECT_EQ(obstacle_check({1e300, 0, 0}, 0, 0.1, none, kMultirotor).status, ObstacleStatus::kBadInput);
+  EXPECT_EQ(obstacle_check({0, 0, 0}, 0, 1e-6, none, kMultirotor).status,
+            ObstacleStatus::kBadInput);
+  EXPECT_EQ(obstacle_check({1e300, 0, 0}, 0, 0.1, none, kMultirotor).status,
+            ObstacleStatus::kBadInput);
   ObstacleCheckConfig bad = kGround;
   bad.semi_major_m = 0.1;  // < semi-minor
   EXPECT_FALSE(bad.validate().empty());
