@@ -1,0 +1,379 @@
+#include "components/dds_bridge/dds_bridge.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "executors/log.hpp"
+#include "executors/registry.hpp"
+#include "interfaces/codec.hpp"
+
+namespace scancrew::dds_bridge {
+
+DdsBridge::DdsBridge(ComponentContext context, Config config)
+    : Component(std::move(context)), config_(std::move(config)) {}
+
+DdsBridge::~DdsBridge() {
+  // no DDS callback may reach this object once its members start to go
+  if (link_) link_->close();
+}
+
+Result<void, std::string> DdsBridge::on_configure() {
+  rules_.format_version = msg::kMessageFormatVersion;
+  rules_.max_sample_bytes = config_.max_sample_bytes;
+  rules_.team = config_.team_ids;
+  if (rules_.team.empty()) {
+    rules_.team.push_back(0);  // a station
+    for (const TeamMember& m : team()) rules_.team.push_back(m.id);
+  }
+  if (config_.link.enabled()) link_model_.emplace(config_.link, robot_id());
+  // every topic's type before any DDS entity exists
+  for (BridgedTopic& spec : config_.topics)
+    if (auto typed = resolve_type(spec); !typed) return typed;
+
+  DdsLinkConfig dds;
+  dds.domain_id = config_.domain_id;
+  dds.partitions = config_.partitions;
+  dds.transport = config_.transport;
+  dds.initial_peers = config_.initial_peers;
+  dds.initial_peers_range = config_.initial_peers_range;
+  dds.intraprocess = config_.intraprocess;
+  dds.liveliness_lease_s = config_.liveliness_lease_s;
+  dds.participant_name = "scancrew" + qualified_name();
+  dds.robot_id = robot_id();
+  DdsLink::Callbacks callbacks;
+  // DDS threads: queue and return
+  callbacks.on_sample = [this](size_t reader, WireEnvelope&& envelope, size_t bytes) {
+    Incoming in{reader, std::move(envelope), bytes, clock().now_ns()};
+    std::lock_guard lock(inbox_mutex_);
+    if (inbox_.size() >= config_.inbox_samples) {
+      ++inbox_drops_[inbox_.front().topic];
+      inbox_.pop_front();
+    }
+    inbox_.push_back(std::move(in));
+    ++taken_;
+  };
+  callbacks.on_peer = [this](uint32_t id, bool alive, std::string_view why) {
+    std::lock_guard lock(inbox_mutex_);
+    peer_events_.push_back({id, alive, std::string(why)});
+  };
+  callbacks.on_warning = [this](const std::string& message) { warn_once(message); };
+  auto link = DdsLink::create(dds, std::move(callbacks));
+  if (!link) return make_unexpected(qualified_name() + ": " + link.error());
+  link_ = std::move(link).value();
+
+  stats_.topics.reserve(config_.topics.size());
+  topics_.reserve(config_.topics.size());
+  for (const BridgedTopic& spec : config_.topics)
+    if (auto added = add_topic(spec); !added) return added;
+  lost_pub_ = create_publisher<msg::RobotState>(config_.lost_port);
+  create_timer(std::chrono::nanoseconds(std::llround(config_.poll_period_s * 1e9)),
+               [this] { tick(); });
+  return {};
+}
+
+Result<void, std::string> DdsBridge::resolve_type(BridgedTopic& spec) {
+  if (spec.name.front() == '/' && !spec.exported)
+    return make_unexpected(qualified_name() + ": import '" + spec.name +
+                           "': imports are relative names (they land on import_prefix + name)");
+  // the parameter, else the local topic of the import port, else the local topic of the name
+  const std::string port = spec.exported ? spec.name : config_.import_prefix + spec.name;
+  if (spec.type_name.empty())
+    for (const std::string& candidate : {resolve(port), resolve(spec.name)})
+      if (auto topic = graph().find(candidate)) {
+        spec.type_name = topic->type_name();
+        break;
+      }
+  if (spec.type_name.empty())
+    return make_unexpected(qualified_name() + ": topic '" + spec.name +
+                           "': its type is unknown: list the bridge after the component that "
+                           "uses it, or set type_" +
+                           spec.key + " (e.g. scancrew/RobotState)");
+  if (!msg::with_wire_message(spec.type_name, []<class T>() {}))
+    return make_unexpected(qualified_name() + ": topic '" + spec.name + "': type '" +
+                           spec.type_name + "' is not a wire message");
+  return {};
+}
+
+Result<void, std::string> DdsBridge::add_topic(const BridgedTopic& spec) {
+  TopicState state;
+  state.spec = spec;
+  const std::string dds_topic =
+      config_.dds_prefix + (spec.name.front() == '/' ? spec.name.substr(1) : spec.name);
+  state.topic_key = LinkModel::topic_key(dds_topic);
+  const std::string port = spec.exported ? spec.name : config_.import_prefix + spec.name;
+  auto endpoint = spec.exported ? link_->add_writer(dds_topic, spec.qos)
+                                : link_->add_reader(dds_topic, spec.qos);
+  if (!endpoint) return make_unexpected(qualified_name() + ": " + endpoint.error());
+  state.endpoint = *endpoint;
+  if (!spec.exported) {
+    if (state.endpoint != topic_of_reader_.size())
+      return make_unexpected(qualified_name() + ": DDS reader indices out of order");
+    topic_of_reader_.push_back(topics_.size());
+  }
+
+  TopicCounters counters;
+  counters.name = spec.name;
+  counters.local = resolve(port);
+  counters.dds_topic = dds_topic;
+  counters.type_name = state.spec.type_name;
+  counters.exported = spec.exported;
+  {
+    std::lock_guard lock(stats_mutex_);
+    stats_.topics.push_back(std::move(counters));
+  }
+  topics_.push_back(std::move(state));
+  const size_t index = topics_.size() - 1;
+  msg::with_wire_message(topics_[index].spec.type_name, [&]<class T>() {
+    if (spec.exported)
+      add_export<T>(index);
+    else
+      add_import<T>(index);
+  });
+  return {};
+}
+
+template <class T>
+void DdsBridge::add_export(size_t index) {
+  const SubscriptionQos qos{.depth = topics_[index].spec.qos.depth};
+  create_subscription<T>(topics_[index].spec.name, qos, [this, index](Sample<T>&& sample) {
+    std::vector<uint8_t>& bytes = topics_[index].scratch;
+    bytes.clear();
+    msg::encode(*sample, bytes);
+    send(index, bytes);
+  });
+}
+
+template <class T>
+void DdsBridge::add_import(size_t index) {
+  auto pub = std::make_shared<Publisher<T>>(
+      create_publisher<T>(config_.import_prefix + topics_[index].spec.name));
+  topics_[index].deliver = [this, pub](const WireEnvelope& envelope, Reject* reason) {
+    if (!pub->valid()) return Delivery::kRejected;
+    auto loan = pub->loan();
+    if (!loan) return Delivery::kPoolExhausted;
+    if (auto decoded = msg::decode(envelope.payload, **loan); !decoded) {
+      *reason = Reject::kMalformed;
+      return Delivery::kRejected;
+    }
+    if (!in_team(rules_, (*loan)->header.robot_id)) {
+      *reason = Reject::kUnknownRobot;
+      return Delivery::kRejected;
+    }
+    (void)pub->forward(std::move(*loan));
+    return Delivery::kPublished;
+  };
+}
+
+void DdsBridge::send(size_t index, std::span<const uint8_t> bytes) {
+  TopicState& t = topics_[index];
+  if (bytes.size() > config_.max_sample_bytes) {
+    {
+      std::lock_guard lock(stats_mutex_);
+      ++stats_.topics[index].send_failures;
+    }
+    warn_once(qualified_name() + ": " + t.spec.name + ": a " + std::to_string(bytes.size()) +
+              "-byte message is over max_sample_bytes; not sent (further ones are counted)");
+    return;
+  }
+  WireEnvelope envelope;
+  envelope.format_version = msg::kMessageFormatVersion;
+  envelope.robot_id = robot_id();
+  envelope.seq = ++t.seq;
+  envelope.stamp_ns = clock().now_ns();
+  envelope.type_name = t.spec.type_name;
+  envelope.payload = std::move(t.scratch);
+  auto written = link_->write(t.endpoint, envelope);
+  t.scratch = std::move(envelope.payload);
+  std::lock_guard lock(stats_mutex_);
+  TopicCounters& c = stats_.topics[index];
+  if (!written) {
+    ++c.send_failures;
+    return;
+  }
+  ++c.sent_samples;
+  c.sent_bytes += *written;
+}
+
+void DdsBridge::tick() {
+  std::vector<PeerEvent> events;
+  {
+    std::lock_guard lock(inbox_mutex_);
+    drained_.insert(drained_.end(), std::make_move_iterator(inbox_.begin()),
+                    std::make_move_iterator(inbox_.end()));
+    inbox_.clear();
+    events.swap(peer_events_);
+  }
+  for (Incoming& in : drained_) admit(std::move(in));
+  drained_.clear();
+
+  // deliver what is due, in delivery-time order
+  const int64_t now = clock().now_ns();
+  while (!pending_.empty() && pending_.top().deliver_at_ns <= now) {
+    const Incoming& in = pending_.top().sample;
+    Reject reason = Reject::kMalformed;
+    const Delivery d = topics_[in.topic].deliver(in.envelope, &reason);
+    if (d == Delivery::kPoolExhausted) break;  // the local readers are behind: next tick
+    {
+      std::lock_guard lock(stats_mutex_);
+      TopicCounters& c = stats_.topics[in.topic];
+      if (d == Delivery::kPublished)
+        ++c.delivered;
+      else
+        reject(c, reason,
+               "from robot " + std::to_string(in.envelope.robot_id) + " on " + c.dds_topic + ": " +
+                   (reason == Reject::kMalformed ? "the payload does not decode as " + c.type_name
+                                                 : "the message header names a robot not in the "
+                                                   "team"));
+    }
+    pending_.pop();
+  }
+  for (const PeerEvent& e : events) handle_peer(e);
+}
+
+void DdsBridge::admit(Incoming&& in) {
+  const size_t topic = topic_of_reader_.at(in.topic);
+  in.topic = topic;
+  const TopicState& t = topics_[topic];
+  std::lock_guard lock(stats_mutex_);
+  TopicCounters& c = stats_.topics[topic];
+  if (in.envelope.robot_id == robot_id()) {
+    ++c.own_ignored;
+    return;
+  }
+  ++c.received_samples;
+  c.received_bytes += in.wire_bytes;
+  std::string detail;
+  if (auto reason = check_envelope(in.envelope, t.spec.type_name, rules_, &detail)) {
+    reject(c, *reason, "on " + c.dds_topic + ": " + detail);
+    return;
+  }
+  int64_t deliver_at = in.arrival_ns;
+  if (link_model_) {
+    const auto d = link_model_->admit(in.envelope.robot_id, t.topic_key, in.envelope.seq,
+                                      in.wire_bytes, in.arrival_ns);
+    switch (d.verdict) {
+      case LinkVerdict::kPartitioned:
+        ++c.dropped_partition;
+        return;
+      case LinkVerdict::kLost:
+        ++c.dropped_loss;
+        return;
+      case LinkVerdict::kSaturated:
+        ++c.dropped_saturated;
+        return;
+      case LinkVerdict::kDeliver:
+        deliver_at = d.deliver_at_ns;
+        break;
+    }
+  }
+  pending_.push({deliver_at, pending_order_++, std::move(in)});
+}
+
+void DdsBridge::reject(TopicCounters& counters, Reject reason, const std::string& detail) {
+  const auto kind = static_cast<size_t>(reason);
+  ++counters.rejected[kind];
+  if (reject_logged_[kind]) return;
+  reject_logged_[kind] = true;
+  SCANCREW_LOG_WARN("%s: rejected a sample (%s) %s; further %s samples are counted",
+                    qualified_name().c_str(), std::string(to_string(reason)).c_str(),
+                    detail.c_str(), std::string(to_string(reason)).c_str());
+}
+
+void DdsBridge::warn_once(const std::string& message) {
+  std::lock_guard lock(stats_mutex_);
+  if (std::find(warned_.begin(), warned_.end(), message) != warned_.end()) return;
+  warned_.push_back(message);
+  SCANCREW_LOG_WARN("%s: %s", qualified_name().c_str(), message.c_str());
+}
+
+void DdsBridge::handle_peer(const PeerEvent& event) {
+  if (!in_team(rules_, event.robot_id)) return;
+  if (event.alive) {
+    SCANCREW_LOG_INFO("%s: robot %u %s", qualified_name().c_str(), event.robot_id,
+                      event.why.c_str());
+    return;
+  }
+  SCANCREW_LOG_WARN("%s: robot %u lost (%s)", qualified_name().c_str(), event.robot_id,
+                    event.why.c_str());
+  {
+    std::lock_guard lock(stats_mutex_);
+    ++stats_.peers_lost;
+  }
+  auto loan = lost_pub_.loan();
+  if (!loan) return;  // counted by the topic (loan failures)
+  msg::RobotState& state = **loan;
+  state = msg::RobotState{};
+  state.header.robot_id = event.robot_id;
+  state.header.seq = ++lost_seq_;
+  state.header.stamp_ns = clock().now_ns();
+  state.mode = msg::RobotState::Mode::kLost;
+  (void)lost_pub_.forward(std::move(*loan));
+}
+
+void DdsBridge::on_activate() {
+  if (auto announced = link_->announce(); !announced)
+    warn_once(announced.error() + ": teammates will not see this robot's loss");
+  active_now_.store(true);
+}
+
+void DdsBridge::on_deactivate() {
+  active_now_.store(false);
+  const BridgeStats s = stats();
+  for (const TopicCounters& t : s.topics) {
+    if (t.exported) {
+      SCANCREW_LOG_INFO(
+          "%s: %s -> %s: sent %llu samples, %llu bytes%s", qualified_name().c_str(),
+          t.local.c_str(), t.dds_topic.c_str(), static_cast<unsigned long long>(t.sent_samples),
+          static_cast<unsigned long long>(t.sent_bytes), t.send_failures ? " (SEND FAILURES)" : "");
+    } else {
+      SCANCREW_LOG_INFO(
+          "%s: %s -> %s: received %llu samples, %llu bytes; delivered %llu; link drops %llu "
+          "(partition %llu, loss %llu, saturated %llu); inbox drops %llu; rejected %llu",
+          qualified_name().c_str(), t.dds_topic.c_str(), t.local.c_str(),
+          static_cast<unsigned long long>(t.received_samples),
+          static_cast<unsigned long long>(t.received_bytes),
+          static_cast<unsigned long long>(t.delivered),
+          static_cast<unsigned long long>(t.link_dropped()),
+          static_cast<unsigned long long>(t.dropped_partition),
+          static_cast<unsigned long long>(t.dropped_loss),
+          static_cast<unsigned long long>(t.dropped_saturated),
+          static_cast<unsigned long long>(t.dropped_inbox),
+          static_cast<unsigned long long>(t.rejected_total()));
+    }
+  }
+}
+
+void DdsBridge::on_shutdown() {
+  if (link_) link_->close();
+}
+
+BridgeStats DdsBridge::stats() const {
+  BridgeStats s;
+  {
+    std::lock_guard lock(stats_mutex_);
+    s = stats_;
+  }
+  std::lock_guard lock(inbox_mutex_);
+  s.taken = taken_;
+  s.inbox = inbox_.size();
+  for (const auto& [reader, drops] : inbox_drops_)
+    if (reader < topic_of_reader_.size() && topic_of_reader_[reader] < s.topics.size())
+      s.topics[topic_of_reader_[reader]].dropped_inbox = drops;
+  return s;
+}
+
+size_t DdsBridge::matched(std::string_view name, bool exported) const {
+  for (const TopicState& t : topics_)
+    if (t.spec.name == name && t.spec.exported == exported)
+      return exported ? link_->writer_matches(t.endpoint) : link_->reader_matches(t.endpoint);
+  return 0;
+}
+
+size_t DdsBridge::peers_alive() const {
+  return link_ ? link_->peers_alive() : 0;
+}
+
+SCANCREW_REGISTER_COMPONENT(DdsBridge, "dds_bridge")
+
+}  // namespace scancrew::dds_bridge

@@ -1,0 +1,167 @@
+#pragma once
+
+// DdsBridge: carries chosen topics between robot and station processes over Fast DDS
+// (ARCHITECTURE.md; thesis 3.1 centralized and 4.1 distributed architectures): robot state,
+// team plans, patch lists, requests, replies and patches, depth and pose to a station,
+// mission status. docs/dds_bridge.md is the user guide.
+//
+// Export (local -> DDS): a subscription per topic encodes each message with the codec of
+// interfaces/codec.hpp into an Envelope (idl/envelope.idl: format version, robot id,
+// sequence, stamp, type name, payload) and writes it on the DDS topic "sc/<name>".
+// Import (DDS -> local): a DDS listener queues each envelope in a bounded inbox; a timer on
+// the executor thread (every poll_period_s) checks it (envelope_check.hpp), applies the link
+// model (link_model.hpp), and when it is due decodes it straight into a loaned sample and
+// forwards it whole (the sender's robot id, sequence and stamp) on the local port
+// "remote/<name>" (remappable in the launch file). Samples with our own robot id are ignored
+// (no loop). Nothing is published from a DDS thread.
+// Peers: a bridge announces itself on a presence topic with AUTOMATIC liveliness; when a
+// teammate's process dies (its lease runs out) or leaves, a msg::RobotState with mode kLost
+// and that robot's id in its header is published on the port "team_events" (once per loss).
+//
+// Thread safety: stats() and the test accessors may be called from any thread. The
+// component's callbacks must run in a mutually exclusive group (the default).
+
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <queue>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "components/dds_bridge/bridge_stats.hpp"
+#include "components/dds_bridge/dds_link.hpp"
+#include "components/dds_bridge/envelope_check.hpp"
+#include "components/dds_bridge/link_model.hpp"
+#include "executors/component.hpp"
+#include "executors/params.hpp"
+#include "interfaces/nav_msgs.hpp"
+
+namespace scancrew::dds_bridge {
+
+struct BridgedTopic {
+  std::string name;       // as listed: "robot_state" (relative) or "/team/plan" (absolute)
+  std::string key;        // for the per-topic parameters: "robot_state", "team_plan"
+  std::string type_name;  // kTypeName; empty: taken from the local graph at configure
+  DdsTopicQos qos;
+  bool exported = false;
+};
+
+class DdsBridge final : public Component {
+ public:
+  static constexpr std::string_view kDescription =
+      "Fast DDS bridge: exports and imports topics between robots and a station, with a link "
+      "model, counters and robot-loss reports";
+  struct Config {
+    uint32_t domain_id = 0;
+    std::vector<std::string> partitions;  // DDS partitions; empty: the default partition
+    std::string transport = "loopback";   // loopback | shm | udp | builtin (dds_link.hpp)
+    std::vector<std::string> initial_peers;
+    uint32_t initial_peers_range = 32;        // participants per peer host reached by unicast
+    bool intraprocess = true;                 // false: Fast DDS's in-process shortcut off (tests)
+    std::vector<BridgedTopic> topics;         // exports, then imports
+    std::string dds_prefix = "sc/";           // DDS topic = prefix + name without a leading '/'
+    std::string import_prefix = "remote/";    // local port of an import = prefix + name
+    std::string lost_port = "team_events";    // where robot-loss reports go
+    std::vector<uint32_t> team_ids;           // senders accepted; empty: the launch's robots + 0
+    uint64_t max_sample_bytes = 64ULL << 20;  // a larger payload is refused (both ways)
+    uint32_t inbox_samples = 4096;            // DDS -> executor queue; overflow drops oldest
+    double poll_period_s = 0.002;             // how often imports are delivered
+    double liveliness_lease_s = 2.0;          // a silent peer is reported lost after this
+    LinkConfig link;
+  };
+  static Config read_config(ParamReader& p);
+
+  DdsBridge(ComponentContext context, Config config);
+  ~DdsBridge() override;
+
+  BridgeStats stats() const;
+  // For tests and tools: DDS matches of a bridged topic (0 when unknown), peers seen alive,
+  // and whether the component is active.
+  size_t matched(std::string_view name, bool exported) const;
+  size_t peers_alive() const;
+  bool active() const { return active_now_.load(); }
+
+ private:
+  struct Incoming {
+    size_t topic = 0;  // index into topics_
+    WireEnvelope envelope;
+    size_t wire_bytes = 0;
+    int64_t arrival_ns = 0;
+  };
+  struct Pending {  // admitted by the link model, waiting for its delivery time
+    int64_t deliver_at_ns = 0;
+    uint64_t order = 0;  // FIFO among equal times
+    Incoming sample;
+    bool operator>(const Pending& o) const {
+      return deliver_at_ns != o.deliver_at_ns ? deliver_at_ns > o.deliver_at_ns : order > o.order;
+    }
+  };
+  enum class Delivery { kPublished, kPoolExhausted, kRejected };
+  // Decodes a payload into a loan and forwards it; kRejected fills *reason.
+  using DeliverFn = std::function<Delivery(const WireEnvelope&, Reject* reason)>;
+  struct TopicState {
+    BridgedTopic spec;
+    size_t endpoint = 0;  // DDS writer or reader index
+    uint64_t topic_key = 0;
+    uint64_t seq = 0;              // export: last sequence number written
+    std::vector<uint8_t> scratch;  // export: the encoding buffer
+    DeliverFn deliver;             // import
+  };
+  struct PeerEvent {
+    uint32_t robot_id = 0;
+    bool alive = false;
+    std::string why;
+  };
+
+  Result<void, std::string> on_configure() override;
+  void on_activate() override;
+  void on_deactivate() override;
+  void on_shutdown() override;
+
+  Result<void, std::string> resolve_type(BridgedTopic& spec);
+  Result<void, std::string> add_topic(const BridgedTopic& spec);
+  template <class T>
+  void add_export(size_t index);
+  template <class T>
+  void add_import(size_t index);
+  void send(size_t index, std::span<const uint8_t> bytes);
+  void tick();
+  void admit(Incoming&& in);
+  void handle_peer(const PeerEvent& event);
+  void reject(TopicCounters& counters, Reject reason, const std::string& detail);
+  void warn_once(const std::string& message);
+
+  Config config_;
+  EnvelopeRules rules_;
+  std::optional<LinkModel> link_model_;
+  std::unique_ptr<DdsLink> link_;
+  std::vector<TopicState> topics_;
+  std::vector<size_t> topic_of_reader_;  // DDS reader index -> topics_ index (set-up only)
+  Publisher<msg::RobotState> lost_pub_;
+  uint64_t lost_seq_ = 0;
+  std::priority_queue<Pending, std::vector<Pending>, std::greater<>> pending_;
+  uint64_t pending_order_ = 0;
+  std::vector<Incoming> drained_;  // executor thread: the inbox, swapped out
+  std::atomic<bool> active_now_{false};
+
+  // DDS threads -> executor thread
+  mutable std::mutex inbox_mutex_;
+  std::deque<Incoming> inbox_;
+  std::vector<PeerEvent> peer_events_;
+  std::map<size_t, uint64_t> inbox_drops_;  // per DDS reader
+  uint64_t taken_ = 0;
+
+  mutable std::mutex stats_mutex_;  // counters (DDS threads count inbox drops)
+  BridgeStats stats_;
+  std::array<bool, kRejectKinds> reject_logged_{};
+  std::vector<std::string> warned_;
+};
+
+}  // namespace scancrew::dds_bridge

@@ -1,0 +1,107 @@
+// DdsBridge::read_config: the bridge's parameters (docs/dds_bridge.md lists them).
+
+#include <algorithm>
+#include <cmath>
+
+#include "components/dds_bridge/dds_bridge.hpp"
+
+namespace scancrew::dds_bridge {
+
+namespace {
+
+bool valid_topic_name(const std::string& name) {
+  if (name.empty() || name == "/" || name.back() == '/') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '/';
+  });
+}
+
+// "robot_state" -> "robot_state", "/team/plan" -> "team_plan"
+std::string topic_key(const std::string& name) {
+  std::string key = name.front() == '/' ? name.substr(1) : name;
+  std::replace(key.begin(), key.end(), '/', '_');
+  return key;
+}
+
+void read_topics(ParamReader& p, const char* list_key, bool exported,
+                 std::vector<BridgedTopic>& topics) {
+  std::vector<std::string> names;
+  p.optional_list(list_key, names);
+  for (const std::string& name : names) {
+    if (!valid_topic_name(name)) {
+      p.report(list_key, "'" + name + "' is not a topic name (letters, digits, '_' and '/')");
+      continue;
+    }
+    const bool duplicate = std::any_of(topics.begin(), topics.end(), [&](const BridgedTopic& t) {
+      return t.exported == exported && t.name == name;
+    });
+    if (duplicate) {
+      p.report(list_key, "'" + name + "' is listed twice");
+      continue;
+    }
+    topics.push_back({.name = name, .key = topic_key(name), .exported = exported});
+  }
+}
+
+// A topic both exported and imported reads the same keys twice (and must: DDS QoS must
+// match on both sides of a topic).
+void read_topic_params(ParamReader& p, BridgedTopic& t) {
+  p.optional("type_" + t.key, t.type_name);
+  std::string reliability = t.qos.reliable ? "reliable" : "best_effort";
+  p.choice("qos_" + t.key, reliability, {"reliable", "best_effort"});
+  t.qos.reliable = reliability == "reliable";
+  p.optional("depth_" + t.key, t.qos.depth, {1, 400});
+  p.optional("transient_local_" + t.key, t.qos.transient_local);
+}
+
+}  // namespace
+
+DdsBridge::Config DdsBridge::read_config(ParamReader& p) {
+  Config c;
+  p.optional("domain_id", c.domain_id, {0, 232});
+  p.optional_list("partitions", c.partitions);
+  p.choice("transport", c.transport, {"loopback", "shm", "udp", "builtin"});
+  p.optional_list("initial_peers", c.initial_peers);
+  p.optional("initial_peers_range", c.initial_peers_range, {1, 120});
+  p.optional("intraprocess", c.intraprocess);
+  read_topics(p, "export_topics", true, c.topics);
+  read_topics(p, "import_topics", false, c.topics);
+  if (c.topics.empty())
+    p.report("export_topics", "nothing to bridge: list export_topics and/or import_topics");
+  for (BridgedTopic& t : c.topics) read_topic_params(p, t);
+  p.optional("dds_prefix", c.dds_prefix);
+  p.optional("import_prefix", c.import_prefix);
+  if (c.import_prefix.empty() || c.import_prefix.front() == '/')
+    p.report("import_prefix", "must be a non-empty relative name, e.g. 'remote/'");
+  p.optional("lost_port", c.lost_port);
+
+  std::vector<double> team;
+  p.optional_list("team_ids", team, 0, {0, 4294967295.0});
+  for (const double id : team) {
+    if (id != std::floor(id)) p.report("team_ids", "robot ids are whole numbers");
+    c.team_ids.push_back(static_cast<uint32_t>(id));
+  }
+  p.optional("max_sample_bytes", c.max_sample_bytes, {64, 4294967295.0});
+  p.optional("inbox_samples", c.inbox_samples, {1, 1e7});
+  p.optional("poll_period_s", c.poll_period_s, {1e-4, 1.0});
+  p.optional("liveliness_lease_s", c.liveliness_lease_s, {0.1, 3600});
+
+  p.optional("link_latency_s", c.link.latency_s, {0, 60});
+  p.optional("link_bandwidth_bps", c.link.bandwidth_bps, {0, 1e12});
+  p.optional("link_loss_rate", c.link.loss_rate, {0, 1});
+  p.optional("link_seed", c.link.seed);
+  p.optional("link_max_queue_s", c.link.max_queue_s, {0, 3600});
+  std::vector<std::string> groups;
+  p.optional_list("link_partition", groups);
+  for (const std::string& text : groups) {
+    std::vector<uint32_t> group;
+    if (std::string problem = parse_partition_group(text, group); !problem.empty())
+      p.report("link_partition", problem);
+    else
+      c.link.partition.push_back(std::move(group));
+  }
+  return c;
+}
+
+}  // namespace scancrew::dds_bridge

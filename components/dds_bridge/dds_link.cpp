@@ -1,0 +1,431 @@
+#include "components/dds_bridge/dds_link.hpp"
+
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
+#include <fastrtps/xmlparser/XMLProfileManager.h>
+
+#include <atomic>
+#include <cmath>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <map>
+#include <mutex>
+#include <set>
+#include <shared_mutex>
+
+#include "components/dds_bridge/idl/envelopePubSubTypes.h"
+
+namespace scancrew::dds_bridge {
+
+namespace fdds = eprosima::fastdds::dds;
+namespace rtps = eprosima::fastrtps::rtps;
+using eprosima::fastrtps::Duration_t;
+using eprosima::fastrtps::types::ReturnCode_t;
+
+namespace {
+
+Duration_t duration(double seconds) {
+  const double whole = std::floor(seconds);
+  return {static_cast<int32_t>(whole),
+          static_cast<uint32_t>(std::llround((seconds - whole) * 1e9))};
+}
+
+void to_dds(WireEnvelope& from, scancrew::dds::Envelope& to) {
+  to.format_version(from.format_version);
+  to.robot_id(from.robot_id);
+  to.seq(from.seq);
+  to.stamp_ns(from.stamp_ns);
+  to.type_name(from.type_name);
+  to.payload(std::move(from.payload));
+}
+
+WireEnvelope from_dds(scancrew::dds::Envelope&& from) {
+  WireEnvelope to;
+  to.format_version = from.format_version();
+  to.robot_id = from.robot_id();
+  to.seq = from.seq();
+  to.stamp_ns = from.stamp_ns();
+  to.type_name = std::move(from.type_name());
+  to.payload = std::move(from.payload());
+  return to;
+}
+
+std::string incompatible(const std::string& topic, fdds::QosPolicyId_t policy) {
+  return "DDS topic '" + topic + "': a peer's QoS is incompatible with ours (policy id " +
+         std::to_string(static_cast<int>(policy)) +
+         "; reliability, durability or liveliness differ between the bridges' configurations)";
+}
+
+}  // namespace
+
+struct DdsLink::Impl {
+  DdsLinkConfig config;
+  Callbacks callbacks;
+  fdds::DomainParticipant* participant = nullptr;
+  fdds::Publisher* publisher = nullptr;
+  fdds::Subscriber* subscriber = nullptr;
+  fdds::TypeSupport type{new scancrew::dds::EnvelopePubSubType()};
+  std::map<std::string, fdds::Topic*> topics;
+  std::vector<fdds::DataWriter*> writers;
+  std::vector<fdds::DataReader*> readers;
+  std::vector<std::unique_ptr<fdds::DataReaderListener>> listeners;
+  fdds::DataWriter* presence_writer = nullptr;
+  fdds::DataReader* presence_reader = nullptr;
+
+  // close() waits for callbacks in flight and stops new ones
+  std::shared_mutex callback_mutex;
+  std::atomic<bool> closing{false};
+
+  // presence: which robot each peer's presence writer belongs to, and who is alive
+  mutable std::mutex peers_mutex;
+  std::map<fdds::InstanceHandle_t, uint32_t> robot_of_writer;
+  std::set<uint32_t> alive;
+  std::set<uint32_t> lost;
+
+  // Runs fn unless the link is closing; fn may then use callbacks.
+  template <class Fn>
+  void guarded(Fn&& fn) {
+    std::shared_lock lock(callback_mutex);
+    if (!closing.load(std::memory_order_acquire)) fn();
+  }
+
+  Result<fdds::Topic*, std::string> topic(const std::string& name) {
+    if (auto it = topics.find(name); it != topics.end()) return it->second;
+    fdds::Topic* t = participant->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+    if (t == nullptr) return make_unexpected("cannot create the DDS topic '" + name + "'");
+    topics.emplace(name, t);
+    return t;
+  }
+
+  void peer_seen(const fdds::InstanceHandle_t& writer, uint32_t robot_id) {
+    if (robot_id == config.robot_id) return;  // our own presence
+    bool joined = false, back = false;
+    {
+      std::lock_guard lock(peers_mutex);
+      robot_of_writer[writer] = robot_id;
+      joined = alive.insert(robot_id).second;
+      back = lost.erase(robot_id) > 0;
+    }
+    if (joined && callbacks.on_peer) callbacks.on_peer(robot_id, true, back ? "back" : "joined");
+  }
+
+  void peer_gone(const fdds::InstanceHandle_t& writer, std::string_view why) {
+    uint32_t robot_id = 0;
+    {
+      std::lock_guard lock(peers_mutex);
+      auto it = robot_of_writer.find(writer);
+      if (it == robot_of_writer.end()) return;  // never announced itself (or our own)
+      robot_id = it->second;
+      if (alive.erase(robot_id) == 0) return;  // already reported
+      lost.insert(robot_id);
+    }
+    if (callbacks.on_peer) callbacks.on_peer(robot_id, false, why);
+  }
+
+  void peer_alive_again(const fdds::InstanceHandle_t& writer) {
+    uint32_t robot_id = 0;
+    {
+      std::lock_guard lock(peers_mutex);
+      auto it = robot_of_writer.find(writer);
+      if (it == robot_of_writer.end()) return;
+      robot_id = it->second;
+      if (!alive.insert(robot_id).second) return;
+      lost.erase(robot_id);
+    }
+    if (callbacks.on_peer) callbacks.on_peer(robot_id, true, "back");
+  }
+};
+
+namespace {
+
+class DataListener final : public fdds::DataReaderListener {
+ public:
+  DataListener(DdsLink::Impl* impl, size_t index, std::string topic)
+      : impl_(impl), index_(index), topic_(std::move(topic)) {}
+
+  void on_data_available(fdds::DataReader* reader) override {
+    impl_->guarded([&] {
+      scancrew::dds::Envelope envelope;
+      fdds::SampleInfo info;
+      while (reader->take_next_sample(&envelope, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        const size_t bytes = scancrew::dds::Envelope::getCdrSerializedSize(envelope) + 4;
+        if (impl_->callbacks.on_sample)
+          impl_->callbacks.on_sample(index_, from_dds(std::move(envelope)), bytes);
+        envelope = scancrew::dds::Envelope{};
+      }
+    });
+  }
+  void on_requested_incompatible_qos(fdds::DataReader* /*reader*/,
+                                     const fdds::RequestedIncompatibleQosStatus& status) override {
+    impl_->guarded([&] {
+      if (impl_->callbacks.on_warning)
+        impl_->callbacks.on_warning(incompatible(topic_, status.last_policy_id));
+    });
+  }
+
+ private:
+  DdsLink::Impl* impl_;
+  size_t index_;
+  std::string topic_;
+};
+
+class PresenceListener final : public fdds::DataReaderListener {
+ public:
+  explicit PresenceListener(DdsLink::Impl* impl) : impl_(impl) {}
+
+  void on_data_available(fdds::DataReader* reader) override {
+    impl_->guarded([&] {
+      scancrew::dds::Envelope envelope;
+      fdds::SampleInfo info;
+      while (reader->take_next_sample(&envelope, &info) == ReturnCode_t::RETCODE_OK)
+        if (info.valid_data && envelope.type_name() == kPresenceType)
+          impl_->peer_seen(info.publication_handle, envelope.robot_id());
+    });
+  }
+  void on_liveliness_changed(fdds::DataReader* /*reader*/,
+                             const fdds::LivelinessChangedStatus& status) override {
+    impl_->guarded([&] {
+      if (status.not_alive_count_change > 0)
+        impl_->peer_gone(status.last_publication_handle, "liveliness lost");
+      else if (status.alive_count_change > 0)
+        impl_->peer_alive_again(status.last_publication_handle);
+    });
+  }
+  void on_subscription_matched(fdds::DataReader* /*reader*/,
+                               const fdds::SubscriptionMatchedStatus& status) override {
+    impl_->guarded([&] {
+      if (status.current_count_change < 0)
+        impl_->peer_gone(status.last_publication_handle, "left the domain");
+    });
+  }
+  void on_requested_incompatible_qos(fdds::DataReader* /*reader*/,
+                                     const fdds::RequestedIncompatibleQosStatus& status) override {
+    impl_->guarded([&] {
+      if (impl_->callbacks.on_warning)
+        impl_->callbacks.on_warning(
+            incompatible(std::string(kPresenceTopic), status.last_policy_id));
+    });
+  }
+
+ private:
+  DdsLink::Impl* impl_;
+};
+
+fdds::DataWriterQos writer_qos(fdds::Publisher* publisher, const DdsTopicQos& qos) {
+  fdds::DataWriterQos w = publisher->get_default_datawriter_qos();
+  w.reliability().kind =
+      qos.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+  w.durability().kind =
+      qos.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+  w.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  w.history().depth = static_cast<int32_t>(qos.depth);
+  // large samples (patches) are fragmented; writes never block the executor thread
+  w.publish_mode().kind = fdds::SYNCHRONOUS_PUBLISH_MODE;
+  w.data_sharing().off();
+  return w;
+}
+
+fdds::DataReaderQos reader_qos(fdds::Subscriber* subscriber, const DdsTopicQos& qos) {
+  fdds::DataReaderQos r = subscriber->get_default_datareader_qos();
+  r.reliability().kind =
+      qos.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+  r.durability().kind =
+      qos.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+  r.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  r.history().depth = static_cast<int32_t>(qos.depth);
+  r.data_sharing().off();
+  return r;
+}
+
+void add_udp(fdds::DomainParticipantQos& pqos, bool loopback_only, uint32_t peers_range) {
+  auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+  udp->maxInitialPeersRange = peers_range;
+  if (loopback_only) udp->interfaceWhiteList.emplace_back("127.0.0.1");
+  pqos.transport().user_transports.push_back(udp);
+}
+
+void add_peer(fdds::DomainParticipantQos& pqos, const std::string& address) {
+  rtps::Locator_t locator;
+  locator.kind = LOCATOR_KIND_UDPv4;
+  locator.port = 0;  // the well-known ports of the first participants of the domain
+  rtps::IPLocator::setIPv4(locator, address);
+  pqos.wire_protocol().builtin.initialPeersList.push_back(locator);
+}
+
+}  // namespace
+
+DdsLink::DdsLink(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+DdsLink::~DdsLink() {
+  close();
+}
+
+Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfig& config,
+                                                              Callbacks callbacks) {
+  auto impl = std::make_unique<Impl>();
+  impl->config = config;
+  impl->callbacks = std::move(callbacks);
+
+  fdds::DomainParticipantQos pqos;
+  pqos.name(config.participant_name.c_str());
+  const std::string& t = config.transport;
+  if (t != "builtin") pqos.transport().use_builtin_transports = false;
+  if (t == "loopback") {
+    add_udp(pqos, true, config.initial_peers_range);
+    add_peer(pqos, "127.0.0.1");
+  } else if (t == "shm") {
+    auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
+    shm->maxInitialPeersRange = config.initial_peers_range;
+    pqos.transport().user_transports.push_back(shm);
+    add_udp(pqos, true, config.initial_peers_range);
+    add_peer(pqos, "127.0.0.1");
+  } else if (t == "udp") {
+    add_udp(pqos, false, config.initial_peers_range);
+  } else if (t != "builtin") {
+    return make_unexpected("unknown transport '" + t + "' (loopback | shm | udp | builtin)");
+  }
+  for (const std::string& peer : config.initial_peers) {
+    if (!rtps::IPLocator::isIPv4(peer))
+      return make_unexpected("'" + peer + "' is not an IPv4 address");
+    add_peer(pqos, peer);
+  }
+
+  if (!config.intraprocess) {
+    eprosima::fastrtps::LibrarySettingsAttributes library;
+    library.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
+    eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(library);
+  }
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  impl->participant = factory->create_participant(config.domain_id, pqos);
+  if (impl->participant == nullptr)
+    return make_unexpected("cannot create a DDS participant on domain " +
+                           std::to_string(config.domain_id) + " (transport " + t + ")");
+  std::unique_ptr<DdsLink> link(new DdsLink(std::move(impl)));
+  Impl& m = *link->impl_;
+  if (m.type.register_type(m.participant) != ReturnCode_t::RETCODE_OK)
+    return make_unexpected("cannot register the DDS type " + m.type.get_type_name());
+
+  fdds::PublisherQos pub_qos = fdds::PUBLISHER_QOS_DEFAULT;
+  fdds::SubscriberQos sub_qos = fdds::SUBSCRIBER_QOS_DEFAULT;
+  for (const std::string& p : config.partitions) {
+    pub_qos.partition().push_back(p.c_str());
+    sub_qos.partition().push_back(p.c_str());
+  }
+  m.publisher = m.participant->create_publisher(pub_qos);
+  m.subscriber = m.participant->create_subscriber(sub_qos);
+  if (m.publisher == nullptr || m.subscriber == nullptr)
+    return make_unexpected("cannot create the DDS publisher or subscriber");
+
+  // presence: reliable, transient-local, AUTOMATIC liveliness with the configured lease
+  auto topic = m.topic(std::string(kPresenceTopic));
+  if (!topic) return make_unexpected(topic.error());
+  const DdsTopicQos presence{.reliable = true, .depth = 1, .transient_local = true};
+  fdds::DataWriterQos wq = writer_qos(m.publisher, presence);
+  wq.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS;
+  wq.liveliness().lease_duration = duration(config.liveliness_lease_s);
+  wq.liveliness().announcement_period = duration(config.liveliness_lease_s / 3);
+  m.presence_writer = m.publisher->create_datawriter(*topic, wq);
+  fdds::DataReaderQos rq = reader_qos(m.subscriber, presence);
+  rq.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS;
+  rq.liveliness().lease_duration = duration(config.liveliness_lease_s);
+  auto listener = std::make_unique<PresenceListener>(&m);
+  m.presence_reader = m.subscriber->create_datareader(*topic, rq, listener.get());
+  m.listeners.push_back(std::move(listener));
+  if (m.presence_writer == nullptr || m.presence_reader == nullptr)
+    return make_unexpected("cannot create the DDS presence endpoints");
+  return link;
+}
+
+Result<size_t, std::string> DdsLink::add_writer(const std::string& dds_topic,
+                                                const DdsTopicQos& qos) {
+  Impl& m = *impl_;
+  auto topic = m.topic(dds_topic);
+  if (!topic) return make_unexpected(topic.error());
+  fdds::DataWriter* w = m.publisher->create_datawriter(*topic, writer_qos(m.publisher, qos));
+  if (w == nullptr) return make_unexpected("cannot create a DDS writer on '" + dds_topic + "'");
+  m.writers.push_back(w);
+  return m.writers.size() - 1;
+}
+
+Result<size_t, std::string> DdsLink::add_reader(const std::string& dds_topic,
+                                                const DdsTopicQos& qos) {
+  Impl& m = *impl_;
+  auto topic = m.topic(dds_topic);
+  if (!topic) return make_unexpected(topic.error());
+  auto listener = std::make_unique<DataListener>(&m, m.readers.size(), dds_topic);
+  fdds::DataReader* r =
+      m.subscriber->create_datareader(*topic, reader_qos(m.subscriber, qos), listener.get());
+  if (r == nullptr) return make_unexpected("cannot create a DDS reader on '" + dds_topic + "'");
+  m.listeners.push_back(std::move(listener));
+  m.readers.push_back(r);
+  return m.readers.size() - 1;
+}
+
+Result<void, std::string> DdsLink::announce() {
+  scancrew::dds::Envelope presence;
+  presence.format_version(0);
+  presence.robot_id(impl_->config.robot_id);
+  presence.type_name(std::string(kPresenceType));
+  if (!impl_->presence_writer->write(&presence))
+    return make_unexpected("cannot write the DDS presence sample");
+  return {};
+}
+
+Result<size_t, std::string> DdsLink::write(size_t writer, WireEnvelope& envelope) {
+  if (writer >= impl_->writers.size())
+    return make_unexpected("no DDS writer " + std::to_string(writer));
+  scancrew::dds::Envelope dds_envelope;
+  to_dds(envelope, dds_envelope);
+  const size_t bytes = scancrew::dds::Envelope::getCdrSerializedSize(dds_envelope) + 4;
+  const bool ok = impl_->writers[writer]->write(&dds_envelope);
+  envelope.payload = std::move(dds_envelope.payload());  // handed back for reuse
+  if (!ok) return make_unexpected("the DDS write failed");
+  return bytes;
+}
+
+size_t DdsLink::writer_matches(size_t writer) const {
+  fdds::PublicationMatchedStatus status;
+  if (writer >= impl_->writers.size() ||
+      impl_->writers[writer]->get_publication_matched_status(status) != ReturnCode_t::RETCODE_OK)
+    return 0;
+  return static_cast<size_t>(status.current_count);
+}
+
+size_t DdsLink::reader_matches(size_t reader) const {
+  fdds::SubscriptionMatchedStatus status;
+  if (reader >= impl_->readers.size() ||
+      impl_->readers[reader]->get_subscription_matched_status(status) != ReturnCode_t::RETCODE_OK)
+    return 0;
+  return static_cast<size_t>(status.current_count);
+}
+
+size_t DdsLink::peers_alive() const {
+  std::lock_guard lock(impl_->peers_mutex);
+  return impl_->alive.size();
+}
+
+void DdsLink::close() {
+  if (!impl_ || impl_->participant == nullptr) return;
+  Impl& m = *impl_;
+  m.closing.store(true, std::memory_order_release);
+  { std::unique_lock wait_for_callbacks(m.callback_mutex); }
+  for (fdds::DataReader* r : m.readers) r->set_listener(nullptr);
+  if (m.presence_reader != nullptr) m.presence_reader->set_listener(nullptr);
+  m.participant->delete_contained_entities();
+  fdds::DomainParticipantFactory::get_instance()->delete_participant(m.participant);
+  m.participant = nullptr;
+  m.readers.clear();
+  m.writers.clear();
+  m.topics.clear();
+}
+
+}  // namespace scancrew::dds_bridge

@@ -1,0 +1,657 @@
+// The dds_bridge component over real Fast DDS: several launches in one process (separate
+// participants) on UDPv4 loopback, in a domain and a DDS partition drawn from the process id
+// so parallel test processes do not hear each other. Robot state, team plans and patches
+// cross; the link model drops a deterministic share and partitions a pair; malformed
+// envelopes written by a raw DDS writer are rejected and counted while good samples flow;
+// a destroyed launch, and a killed process, are reported lost.
+//
+// Waits are polls with generous bounds (a loaded 2-core machine), never fixed sleeps.
+
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "components/dds_bridge/dds_bridge.hpp"
+#include "components/dds_bridge/idl/envelopePubSubTypes.h"
+#include "executors/launch.hpp"
+#include "executors/registry.hpp"
+#include "interfaces/codec.hpp"
+
+namespace scancrew::dds_bridge {
+namespace {
+
+namespace fdds = eprosima::fastdds::dds;
+using Clock = std::chrono::steady_clock;
+
+// Polls pred every 5 ms for up to timeout_s.
+bool wait_until(const std::function<bool()>& pred, double timeout_s = 15.0) {
+  const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
+  while (Clock::now() < deadline) {
+    if (pred()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return pred();
+}
+
+// Publishes what the test asks for, from the test thread (publishers are thread safe).
+class Source final : public Component {
+ public:
+  static constexpr std::string_view kDescription = "test: publishes on the test's demand";
+  struct Config {};
+  static Config read_config(ParamReader& /*p*/) { return {}; }
+  Source(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
+
+  bool active() const { return active_.load(); }
+  // Each waits for a free slot (the bridge may hold some), up to a bound.
+  bool send_state(uint32_t path_index) {
+    return send(state_, [&](msg::RobotState& m) {
+      m.mode = msg::RobotState::Mode::kMoving;
+      m.path_index = path_index;
+      m.T_world_body.position = {0.5 * path_index, -1.0, 0.25};
+    });
+  }
+  bool send_plan(uint64_t plan_id) {
+    return send(plan_, [&](msg::TeamPlan& m) {
+      m.plan_id = plan_id;
+      m.map_version = 7;
+      msg::PathSequence seq;
+      seq.robot_id = robot_id();
+      seq.cluster_ids = {3, 1, 4};
+      seq.viewpoints = {{{1, 2, 0}, 0.5}, {{2, 3, 0}, 1.0}};
+      seq.utility = 0.75;
+      m.sequences = {seq};
+    });
+  }
+  bool send_patch(uint32_t index, size_t bytes) {
+    return send(patch_, [&](msg::TsdfPatch& m) {
+      m.robot_id = robot_id();
+      m.index = index;
+      m.patch_id = (uint64_t{robot_id()} << 32) | index;
+      m.voxel_size_m = 0.05;
+      m.data.resize(bytes);
+      for (size_t i = 0; i < bytes; ++i) m.data[i] = static_cast<uint8_t>(i * 31 + index);
+    });
+  }
+
+ private:
+  template <class T, class Fill>
+  bool send(Publisher<T>& pub, Fill&& fill) {
+    bool sent = false;
+    wait_until([&] {
+      auto loan = pub.loan();
+      if (!loan) return false;
+      fill(**loan);
+      sent = pub.publish(std::move(*loan)).has_value();
+      return true;
+    });
+    return sent;
+  }
+  Result<void, std::string> on_configure() override {
+    state_ = create_publisher<msg::RobotState>("robot_state");
+    plan_ = create_publisher<msg::TeamPlan>("plan");
+    patch_ = create_publisher<msg::TsdfPatch>("patch");
+    return {};
+  }
+  void on_activate() override { active_.store(true); }
+  void on_deactivate() override { active_.store(false); }
+
+  Publisher<msg::RobotState> state_;
+  Publisher<msg::TeamPlan> plan_;
+  Publisher<msg::TsdfPatch> patch_;
+  std::atomic<bool> active_{false};
+};
+SCANCREW_REGISTER_COMPONENT(Source, "test_dds_source")
+
+// Keeps what the bridge imports and the loss reports.
+class Sink final : public Component {
+ public:
+  static constexpr std::string_view kDescription = "test: keeps what the bridge imports";
+  struct Config {};
+  static Config read_config(ParamReader& /*p*/) { return {}; }
+  Sink(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
+
+  mutable std::mutex mutex;
+  std::vector<msg::RobotState> states, lost;
+  std::vector<msg::TeamPlan> plans;
+  std::vector<msg::TsdfPatch> patches;
+
+  size_t count(const std::vector<msg::RobotState>& v) const {
+    std::lock_guard lock(mutex);
+    return v.size();
+  }
+  template <class T>
+  std::vector<T> copy(const std::vector<T>& v) const {
+    std::lock_guard lock(mutex);
+    return v;
+  }
+
+ private:
+  template <class T>
+  void keep(const char* port, std::vector<T>& into) {
+    create_subscription<T>(port, {.depth = 64}, [this, &into](Sample<T>&& s) {
+      std::lock_guard lock(mutex);
+      into.push_back(*s);
+    });
+  }
+  Result<void, std::string> on_configure() override {
+    keep<msg::RobotState>("remote/robot_state", states);
+    keep<msg::TeamPlan>("remote/plan", plans);
+    keep<msg::TsdfPatch>("remote/patch", patches);
+    keep<msg::RobotState>("team_events", lost);
+    return {};
+  }
+};
+SCANCREW_REGISTER_COMPONENT(Sink, "test_dds_sink")
+
+// The process id the domain and partition come from: ours, or the parent's in the child of
+// AKilledRobotProcessIsReportedLostWhenItsLeaseRunsOut.
+uint32_t test_pid() {
+  if (const char* parent = std::getenv("SCANCREW_DDS_TEST_CHILD"))  // NOLINT(concurrency-mt-unsafe)
+    return static_cast<uint32_t>(std::strtoul(parent, nullptr, 10));
+  return static_cast<uint32_t>(::getpid());
+}
+uint32_t test_domain() {
+  return 10 + test_pid() % 200;
+}
+std::string test_partition() {
+  return "scancrew_test_" + std::to_string(test_pid());
+}
+
+// One robot (or station, id 0) process: a launch running on its own thread.
+class Robot {
+ public:
+  // extra: more bridge parameters, as YAML flow-mapping entries (", key: value").
+  Robot(uint32_t id, const std::string& extra,
+        const std::string& topics = "[robot_state, plan, patch]") {
+    const std::string robots = id == 0 ? ""
+                                       : "robots:\n  - {id: " + std::to_string(id) +
+                                             ", namespace: r" + std::to_string(id) + "}\n";
+    const std::string text =
+        "clock: wall\nexecutor: {type: single_threaded}\nrun: {duration_s: 0}\n" + robots +
+        "components:\n"
+        "  - {name: source, type: test_dds_source}\n"
+        "  - name: bridge\n"
+        "    type: dds_bridge\n"
+        "    params: {domain_id: " +
+        std::to_string(test_domain()) + ", partitions: [" + test_partition() +
+        "], transport: loopback, intraprocess: false, team_ids: [0, 1, 2, 3, 4],"
+        " export_topics: " +
+        topics + ", import_topics: " + topics +
+        ", depth_robot_state: 400, liveliness_lease_s: 0.5" + extra +
+        "}\n"
+        "  - {name: sink, type: test_dds_sink}\n";
+    auto launch = Launch::from_string(text, "robot" + std::to_string(id) + ".yaml");
+    if (!launch) {
+      std::string all;
+      for (const auto& e : launch.error()) all += e + "\n";
+      ADD_FAILURE() << all;
+      return;
+    }
+    launch_ = std::move(launch).value();
+    thread_ = std::thread([this] {
+      launch_->run();
+      done_.store(true);
+    });
+  }
+  ~Robot() { stop(); }
+  Robot(const Robot&) = delete;
+  Robot& operator=(const Robot&) = delete;
+
+  bool ok() const { return launch_ != nullptr; }
+  void stop() {
+    if (!thread_.joinable()) return;
+    while (!done_.load()) {  // run() clears a stop requested before it started
+      launch_->request_stop();
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    thread_.join();
+  }
+  void destroy() {
+    stop();
+    launch_.reset();
+  }
+
+  Source& source() { return *launch_->find_component<Source>(); }
+  DdsBridge& bridge() { return *launch_->find_component<DdsBridge>(); }
+  Sink& sink() { return *launch_->find_component<Sink>(); }
+  bool active() { return ok() && source().active() && bridge().active(); }
+
+ private:
+  std::unique_ptr<Launch> launch_;
+  std::thread thread_;
+  std::atomic<bool> done_{false};
+};
+
+// Waits until every robot runs and DDS discovery is complete both ways: each bridge's
+// writer and reader of each topic matched the `bridges` bridges that carry it (its own
+// included). A volatile reader does not get what was written before it matched the writer.
+void wait_ready(const std::vector<Robot*>& robots, size_t bridges,
+                const std::vector<std::string>& topics = {"robot_state", "plan", "patch"}) {
+  for (Robot* r : robots) {
+    ASSERT_TRUE(r->ok());
+    ASSERT_TRUE(wait_until([&] { return r->active(); })) << "a launch did not start";
+  }
+  for (Robot* r : robots)
+    for (const std::string& t : topics)
+      for (const bool exported : {true, false})
+        ASSERT_TRUE(wait_until([&] { return r->bridge().matched(t, exported) >= bridges; }))
+            << "DDS discovery on loopback did not match '" << t << "' ("
+            << (exported ? "writer" : "reader") << ")";
+}
+
+// The import counters of a bridge, for failure messages.
+std::string describe(Robot& r) {
+  const BridgeStats s = r.bridge().stats();
+  std::string out = "taken " + std::to_string(s.taken) + " inbox " + std::to_string(s.inbox) + ": ";
+  for (const TopicCounters& t : s.topics)
+    out +=
+        t.local +
+        (t.exported ? " sent " + std::to_string(t.sent_samples)
+                    : " received " + std::to_string(t.received_samples) + " delivered " +
+                          std::to_string(t.delivered) + " own " + std::to_string(t.own_ignored)) +
+        "; ";
+  return out;
+}
+
+const TopicCounters& counters(const BridgeStats& s, const std::string& name, bool exported) {
+  const TopicCounters* c = s.find(name, exported);
+  EXPECT_NE(c, nullptr) << name;
+  static const TopicCounters none;
+  return c != nullptr ? *c : none;
+}
+
+TEST(DdsBridge, RobotStatePlansAndPatchesReachTeammatesAndTheStation) {
+  Robot r1(1, ""), r2(2, ""), station(0, "");
+  wait_ready({&r1, &r2, &station}, 3);
+
+  constexpr int kStates = 20;
+  for (int i = 1; i <= kStates; ++i) {
+    ASSERT_TRUE(r1.source().send_state(static_cast<uint32_t>(i)));
+    ASSERT_TRUE(r2.source().send_state(static_cast<uint32_t>(100 + i)));
+  }
+  ASSERT_TRUE(r1.source().send_plan(42));
+  ASSERT_TRUE(r1.source().send_patch(1, 1000));
+  ASSERT_TRUE(r1.source().send_patch(2, 300'000));  // fragmented by DDS
+
+  ASSERT_TRUE(wait_until([&] {
+    std::lock_guard lock(r2.sink().mutex);
+    return r2.sink().states.size() == kStates && r2.sink().plans.size() == 1 &&
+           r2.sink().patches.size() == 2;
+  })) << "robot 2 got "
+      << r2.sink().count(r2.sink().states) << " states";
+  ASSERT_TRUE(wait_until([&] {
+    return station.sink().count(station.sink().states) == 2 * size_t{kStates};
+  })) << describe(station)
+      << "\n"
+      << describe(r1) << "\n"
+      << describe(r2);
+
+  // robot 2 sees robot 1's messages whole: its robot id, sequence numbers and contents
+  const auto states = r2.sink().copy(r2.sink().states);
+  for (size_t i = 0; i < states.size(); ++i) {
+    EXPECT_EQ(states[i].header.robot_id, 1u);
+    EXPECT_EQ(states[i].header.seq, i + 1);
+    EXPECT_EQ(states[i].path_index, i + 1);
+    EXPECT_EQ(states[i].mode, msg::RobotState::Mode::kMoving);
+    EXPECT_DOUBLE_EQ(states[i].T_world_body.position.x, 0.5 * static_cast<double>(i + 1));
+  }
+  const auto plans = r2.sink().copy(r2.sink().plans);
+  EXPECT_EQ(plans[0].plan_id, 42u);
+  ASSERT_EQ(plans[0].sequences.size(), 1u);
+  EXPECT_EQ(plans[0].sequences[0].cluster_ids, (std::vector<uint32_t>{3, 1, 4}));
+  EXPECT_EQ(plans[0].sequences[0].viewpoints.size(), 2u);
+  const auto patches = r2.sink().copy(r2.sink().patches);
+  EXPECT_EQ(patches[1].patch_id, (uint64_t{1} << 32) | 2);
+  ASSERT_EQ(patches[1].data.size(), 300'000u);
+  for (size_t i = 0; i < patches[1].data.size(); i += 997)
+    ASSERT_EQ(patches[1].data[i], static_cast<uint8_t>(i * 31 + 2)) << i;
+
+  // the station hears both robots; nobody re-imports its own samples
+  std::map<uint32_t, int> by_robot;
+  for (const auto& s : station.sink().copy(station.sink().states)) ++by_robot[s.header.robot_id];
+  EXPECT_EQ(by_robot[1], kStates);
+  EXPECT_EQ(by_robot[2], kStates);
+  for (const auto& s : r1.sink().copy(r1.sink().states)) EXPECT_EQ(s.header.robot_id, 2u);
+  ASSERT_TRUE(wait_until(
+      [&] { return counters(r1.bridge().stats(), "robot_state", false).own_ignored == kStates; }));
+
+  // byte counters: what robot 1 sent is what robot 2 received from it
+  const BridgeStats s1 = r1.bridge().stats();
+  const BridgeStats s2 = r2.bridge().stats();
+  const TopicCounters& sent = counters(s1, "patch", true);
+  const TopicCounters& got = counters(s2, "patch", false);
+  EXPECT_EQ(sent.sent_samples, 2u);
+  EXPECT_GT(sent.sent_bytes, 301'000u);
+  EXPECT_EQ(got.received_samples, 2u);
+  EXPECT_EQ(got.received_bytes, sent.sent_bytes);
+  EXPECT_EQ(got.delivered, 2u);
+  EXPECT_EQ(got.rejected_total(), 0u);
+  EXPECT_EQ(counters(s2, "robot_state", false).received_bytes,
+            counters(s1, "robot_state", true).sent_bytes);
+  EXPECT_EQ(counters(s1, "robot_state", true).sent_samples, static_cast<uint64_t>(kStates));
+  EXPECT_GT(s1.sent_bytes(), 0u);
+  EXPECT_EQ(counters(s2, "robot_state", false).local, "/r2/remote/robot_state");
+  EXPECT_EQ(counters(s2, "robot_state", false).dds_topic, "sc/robot_state");
+}
+
+TEST(DdsBridge, LinkLossDropsTheConfiguredShareDeterministically) {
+  constexpr double kLoss = 0.2;
+  constexpr uint64_t kSeed = 7;
+  Robot r1(1, "", "[robot_state]");
+  Robot r2(2, ", link_loss_rate: 0.2, link_seed: 7", "[robot_state]");
+  wait_ready({&r1, &r2}, 2, {"robot_state"});
+
+  constexpr int kStates = 300;
+  for (int i = 1; i <= kStates; ++i) ASSERT_TRUE(r1.source().send_state(static_cast<uint32_t>(i)));
+  ASSERT_TRUE(wait_until([&] {
+    const TopicCounters c = counters(r2.bridge().stats(), "robot_state", false);
+    return c.received_samples == kStates && c.delivered + c.dropped_loss == kStates;
+  })) << describe(r2)
+      << "\n"
+      << describe(r1);
+  ASSERT_TRUE(wait_until([&] {
+    return r2.sink().count(r2.sink().states) ==
+           counters(r2.bridge().stats(), "robot_state", false).delivered;
+  }));
+
+  const TopicCounters c = counters(r2.bridge().stats(), "robot_state", false);
+  const double dropped = static_cast<double>(c.dropped_loss) / kStates;
+  EXPECT_NEAR(dropped, kLoss, 0.06) << c.dropped_loss << " of " << kStates;
+  // exactly the samples the seeded draw marks lost are missing (the same on every run)
+  std::set<uint64_t> expected, got;
+  const uint64_t key = LinkModel::topic_key("sc/robot_state");
+  for (uint64_t seq = 1; seq <= kStates; ++seq)
+    if (LinkModel::loss_draw(kSeed, 1, 2, key, seq) >= kLoss) expected.insert(seq);
+  for (const auto& s : r2.sink().copy(r2.sink().states)) got.insert(s.header.seq);
+  EXPECT_EQ(got, expected);
+  // robot 1 has no link model: it loses nothing of robot 2's (none sent) and counts nothing
+  EXPECT_EQ(counters(r1.bridge().stats(), "robot_state", false).link_dropped(), 0u);
+}
+
+TEST(DdsBridge, APartitionCutsTheLinkBetweenTwoRobots) {
+  // Fig. 4.2 connected graph: 1 hears 2 and 3; 2 and 3 do not hear each other
+  const std::string partition = R"(, link_partition: ["1 2", "1 3"])";
+  Robot r1(1, partition, "[robot_state]"), r2(2, partition, "[robot_state]"),
+      r3(3, partition, "[robot_state]");
+  wait_ready({&r1, &r2, &r3}, 3, {"robot_state"});
+
+  constexpr int kStates = 5;
+  for (int i = 1; i <= kStates; ++i)
+    for (Robot* r : {&r1, &r2, &r3}) ASSERT_TRUE(r->source().send_state(static_cast<uint32_t>(i)));
+  for (Robot* r : {&r1, &r2, &r3})
+    ASSERT_TRUE(wait_until([&] {
+      return counters(r->bridge().stats(), "robot_state", false).received_samples ==
+             2 * size_t{kStates};
+    }));
+  ASSERT_TRUE(wait_until([&] { return r1.sink().count(r1.sink().states) == 2 * size_t{kStates}; }));
+  ASSERT_TRUE(wait_until([&] { return r2.sink().count(r2.sink().states) == kStates; }));
+  ASSERT_TRUE(wait_until([&] { return r3.sink().count(r3.sink().states) == kStates; }));
+
+  for (const auto& s : r2.sink().copy(r2.sink().states)) EXPECT_EQ(s.header.robot_id, 1u);
+  for (const auto& s : r3.sink().copy(r3.sink().states)) EXPECT_EQ(s.header.robot_id, 1u);
+  EXPECT_EQ(counters(r2.bridge().stats(), "robot_state", false).dropped_partition,
+            static_cast<uint64_t>(kStates));
+  EXPECT_EQ(counters(r3.bridge().stats(), "robot_state", false).dropped_partition,
+            static_cast<uint64_t>(kStates));
+  EXPECT_EQ(counters(r1.bridge().stats(), "robot_state", false).dropped_partition, 0u);
+}
+
+// Every error of a launch file, joined.
+std::string launch_errors(const std::string& params) {
+  auto launch = Launch::from_string(
+      "components:\n  - {name: bridge, type: dds_bridge, params: {" + params + "}}\n", "bad.yaml");
+  if (launch) return "";
+  std::string all;
+  for (const auto& e : launch.error()) all += e + "\n";
+  return all;
+}
+
+TEST(DdsBridge, BadConfigurationFailsAtStartNamingTheKey) {
+  EXPECT_NE(launch_errors("import_topics: [plan]").find("type_plan"), std::string::npos)
+      << "a topic whose type nobody gives";
+  const std::string e = launch_errors(
+      "import_topics: [plan, plan, 'bad name'], type_plan: scancrew/TeamPlan, qos_plan: fast, "
+      "link_loss_rate: 1.5, link_partition: ['1 x'], transport: carrier_pigeon, depth_nope: 3");
+  for (const char* key : {"is listed twice", "'bad name'", "qos_plan", "link_loss_rate",
+                          "link_partition", "transport", "depth_nope"})
+    EXPECT_NE(e.find(key), std::string::npos) << key << " in:\n" << e;
+  EXPECT_NE(launch_errors("").find("nothing to bridge"), std::string::npos);
+  EXPECT_NE(
+      launch_errors("import_topics: [plan], type_plan: scancrew/Nope").find("not a wire message"),
+      std::string::npos);
+}
+
+// A bare Fast DDS participant writing raw Envelopes (or raw bytes) on a bridge topic: the
+// hostile peer of the bad-input test.
+class RawPeer {
+ public:
+  RawPeer() {
+    fdds::DomainParticipantQos pqos;
+    pqos.name("scancrew_test_raw_peer");
+    pqos.transport().use_builtin_transports = false;
+    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+    udp->interfaceWhiteList.emplace_back("127.0.0.1");
+    udp->maxInitialPeersRange = 32;  // as the bridges
+    pqos.transport().user_transports.push_back(udp);
+    eprosima::fastrtps::rtps::Locator_t peer;
+    eprosima::fastrtps::rtps::IPLocator::setIPv4(peer, "127.0.0.1");
+    pqos.wire_protocol().builtin.initialPeersList.push_back(peer);
+    participant_ =
+        fdds::DomainParticipantFactory::get_instance()->create_participant(test_domain(), pqos);
+    type_.register_type(participant_);
+    topic_ = participant_->create_topic("sc/robot_state", type_.get_type_name(),
+                                        fdds::TOPIC_QOS_DEFAULT);
+    fdds::PublisherQos pub_qos;
+    pub_qos.partition().push_back(test_partition().c_str());
+    publisher_ = participant_->create_publisher(pub_qos);
+    fdds::DataWriterQos wq = publisher_->get_default_datawriter_qos();
+    wq.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    wq.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    wq.history().depth = 100;
+    writer_ = publisher_->create_datawriter(topic_, wq);
+  }
+  ~RawPeer() {
+    participant_->delete_contained_entities();
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  }
+  RawPeer(const RawPeer&) = delete;
+  RawPeer& operator=(const RawPeer&) = delete;
+
+  size_t matched() const {
+    fdds::PublicationMatchedStatus status;
+    writer_->get_publication_matched_status(status);
+    return static_cast<size_t>(status.current_count);
+  }
+  bool write(uint32_t version, uint32_t robot, uint64_t seq, const std::string& type,
+             std::vector<uint8_t> payload) {
+    scancrew::dds::Envelope e;
+    e.format_version(version);
+    e.robot_id(robot);
+    e.seq(seq);
+    e.type_name(type);
+    e.payload(std::move(payload));
+    return writer_->write(&e);
+  }
+
+ private:
+  fdds::DomainParticipant* participant_ = nullptr;
+  fdds::TypeSupport type_{new scancrew::dds::EnvelopePubSubType()};
+  fdds::Topic* topic_ = nullptr;
+  fdds::Publisher* publisher_ = nullptr;
+  fdds::DataWriter* writer_ = nullptr;
+};
+
+std::vector<uint8_t> state_bytes(uint32_t header_robot, uint32_t path_index) {
+  msg::RobotState s;
+  s.header.robot_id = header_robot;
+  s.header.seq = path_index;
+  s.path_index = path_index;
+  return msg::encode(s);
+}
+
+TEST(DdsBridge, BadEnvelopesAreRejectedAndCountedWhileGoodSamplesFlow) {
+  Robot r1(1, ", max_sample_bytes: 4096", "[robot_state]");
+  Robot r2(2, ", max_sample_bytes: 4096", "[robot_state]");
+  wait_ready({&r1, &r2}, 2, {"robot_state"});
+  RawPeer raw;
+  ASSERT_TRUE(wait_until([&] { return raw.matched() >= 2; }));
+  for (Robot* r : {&r1, &r2})  // and the bridges' readers know the raw writer
+    ASSERT_TRUE(wait_until([&] { return r->bridge().matched("robot_state", false) >= 3; }));
+
+  const uint32_t v = msg::kMessageFormatVersion;
+  const std::string type = msg::RobotState::kTypeName;
+  std::vector<uint8_t> truncated = state_bytes(3, 1);
+  truncated.resize(truncated.size() / 2);
+  std::vector<uint8_t> trailing = state_bytes(3, 1);
+  trailing.push_back(0);
+  std::vector<uint8_t> plan_with_huge_count = msg::encode(msg::TeamPlan{});
+  plan_with_huge_count[plan_with_huge_count.size() - 8] = 0xff;  // sequences: 0xff... entries
+  plan_with_huge_count[plan_with_huge_count.size() - 5] = 0x7f;
+
+  uint64_t seq = 0;
+  int good = 0;
+  const auto good_one = [&] {
+    ++seq;
+    ASSERT_TRUE(raw.write(v, 3, seq, type, state_bytes(3, static_cast<uint32_t>(seq))));
+    ASSERT_TRUE(r1.source().send_state(static_cast<uint32_t>(++good)));
+  };
+  good_one();
+  ASSERT_TRUE(raw.write(v + 1, 3, ++seq, type, state_bytes(3, 1)));  // another format
+  good_one();
+  ASSERT_TRUE(raw.write(v, 3, ++seq, "scancrew/Nope", state_bytes(3, 1)));  // unknown type
+  ASSERT_TRUE(raw.write(v, 3, ++seq, msg::TeamPlan::kTypeName, plan_with_huge_count));  // mismatch
+  good_one();
+  ASSERT_TRUE(raw.write(v, 3, ++seq, type, std::vector<uint8_t>(5000, 0xab)));  // oversized
+  ASSERT_TRUE(raw.write(v, 9, ++seq, type, state_bytes(9, 1)));   // robot 9 is not in the team
+  ASSERT_TRUE(raw.write(v, 3, ++seq, type, state_bytes(99, 1)));  // header names robot 99
+  good_one();
+  ASSERT_TRUE(raw.write(v, 3, ++seq, type, truncated));
+  ASSERT_TRUE(raw.write(v, 3, ++seq, type, trailing));
+  ASSERT_TRUE(raw.write(v, 3, ++seq, type, {}));
+  good_one();
+
+  // robot 2: 5 good from robot 1, 5 good from the raw peer (as robot 3), 9 rejected
+  const auto done = [&] {
+    const TopicCounters c = counters(r2.bridge().stats(), "robot_state", false);
+    return c.delivered == 10 && c.rejected_total() == 9;
+  };
+  ASSERT_TRUE(wait_until(done)) << "delivered "
+                                << counters(r2.bridge().stats(), "robot_state", false).delivered;
+  const TopicCounters c = counters(r2.bridge().stats(), "robot_state", false);
+  EXPECT_EQ(c.rejected[static_cast<size_t>(Reject::kFormatVersion)], 1u);
+  EXPECT_EQ(c.rejected[static_cast<size_t>(Reject::kUnknownType)], 1u);
+  EXPECT_EQ(c.rejected[static_cast<size_t>(Reject::kTypeMismatch)], 1u);
+  EXPECT_EQ(c.rejected[static_cast<size_t>(Reject::kOversize)], 1u);
+  EXPECT_EQ(c.rejected[static_cast<size_t>(Reject::kUnknownRobot)], 2u);
+  EXPECT_EQ(c.rejected[static_cast<size_t>(Reject::kMalformed)], 3u);
+  EXPECT_EQ(c.received_samples, 19u);
+
+  // only the good samples reached the graph, intact and in order per sender
+  ASSERT_TRUE(wait_until([&] { return r2.sink().count(r2.sink().states) == 10; }));
+  std::map<uint32_t, std::vector<uint32_t>> by_robot;
+  for (const auto& s : r2.sink().copy(r2.sink().states))
+    by_robot[s.header.robot_id].push_back(s.path_index);
+  EXPECT_EQ(by_robot[1], (std::vector<uint32_t>{1, 2, 3, 4, 5}));
+  EXPECT_EQ(by_robot[3], (std::vector<uint32_t>{1, 3, 6, 10, 14}));
+  EXPECT_EQ(by_robot.size(), 2u);
+  // robot 1 saw the same bad input and keeps running: it still exports
+  ASSERT_TRUE(r1.source().send_state(99));
+  ASSERT_TRUE(wait_until([&] { return r2.sink().count(r2.sink().states) == 11; }));
+  EXPECT_EQ(counters(r1.bridge().stats(), "robot_state", false).rejected_total(), 9u);
+}
+
+TEST(DdsBridge, ADestroyedTeammateIsReportedLost) {
+  auto r1 = std::make_unique<Robot>(1, "", "[robot_state]");
+  Robot r2(2, "", "[robot_state]");
+  wait_ready({r1.get(), &r2}, 2, {"robot_state"});
+  ASSERT_TRUE(wait_until([&] { return r2.bridge().peers_alive() == 1; }));
+  EXPECT_EQ(r2.sink().count(r2.sink().lost), 0u);
+
+  const auto t0 = Clock::now();
+  r1->destroy();
+  ASSERT_TRUE(wait_until([&] { return r2.sink().count(r2.sink().lost) >= 1; }, 10.0));
+  const double took_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  const auto lost = r2.sink().copy(r2.sink().lost);
+  EXPECT_EQ(lost[0].header.robot_id, 1u);
+  EXPECT_EQ(lost[0].mode, msg::RobotState::Mode::kLost);
+  EXPECT_EQ(r2.bridge().stats().peers_lost, 1u);
+  EXPECT_EQ(r2.bridge().peers_alive(), 0u);
+  std::printf("robot 1 reported lost %.3f s after its launch was destroyed\n", took_s);
+}
+
+// The child of the next test: a robot that runs until it is killed.
+TEST(DdsBridgeChild, RunsARobotUntilKilled) {
+  if (std::getenv("SCANCREW_DDS_TEST_CHILD") == nullptr)  // NOLINT(concurrency-mt-unsafe)
+    GTEST_SKIP() << "only run as the child process of AKilledRobotProcessIsReportedLost...";
+  Robot r4(4, "", "[robot_state]");
+  ASSERT_TRUE(wait_until([&] { return r4.active(); }));
+  std::this_thread::sleep_for(std::chrono::seconds(60));  // the parent kills us long before
+}
+
+// Kills the child process on every exit path of the test.
+struct ChildGuard {
+  pid_t pid = -1;
+  ~ChildGuard() { kill_now(); }
+  void kill_now() {
+    if (pid <= 0) return;
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    pid = -1;
+  }
+};
+
+TEST(DdsBridge, AKilledRobotProcessIsReportedLostWhenItsLeaseRunsOut) {
+  Robot r2(2, "", "[robot_state]");
+  ASSERT_TRUE(r2.ok());
+  ASSERT_TRUE(wait_until([&] { return r2.active(); }));
+
+  // the child runs this binary's child test, in our domain and partition
+  std::vector<std::string> env_strings;
+  for (char** e = environ; *e != nullptr; ++e)
+    if (std::string_view(*e).substr(0, 24) != "SCANCREW_DDS_TEST_CHILD=")
+      env_strings.emplace_back(*e);
+  env_strings.push_back("SCANCREW_DDS_TEST_CHILD=" + std::to_string(::getpid()));
+  std::vector<char*> envp;
+  envp.reserve(env_strings.size() + 1);
+  for (auto& s : env_strings) envp.push_back(s.data());
+  envp.push_back(nullptr);
+  std::string exe = "/proc/self/exe";
+  std::string filter = "--gtest_filter=DdsBridgeChild.RunsARobotUntilKilled";
+  std::vector<char*> argv = {exe.data(), filter.data(), nullptr};
+  ChildGuard child;
+  ASSERT_EQ(::posix_spawn(&child.pid, exe.c_str(), nullptr, nullptr, argv.data(), envp.data()), 0);
+
+  ASSERT_TRUE(wait_until([&] { return r2.bridge().peers_alive() == 1; }, 30.0))
+      << "the child robot never appeared";
+  ASSERT_EQ(r2.sink().count(r2.sink().lost), 0u);
+  const auto t0 = Clock::now();
+  child.kill_now();  // no goodbye: only the liveliness lease can tell
+  ASSERT_TRUE(wait_until([&] { return r2.sink().count(r2.sink().lost) >= 1; }, 10.0));
+  const double took_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  const auto lost = r2.sink().copy(r2.sink().lost);
+  EXPECT_EQ(lost[0].header.robot_id, 4u);
+  EXPECT_EQ(lost[0].mode, msg::RobotState::Mode::kLost);
+  EXPECT_LT(took_s, 5.0) << "the lease is 0.5 s";
+  std::printf("killed robot 4 reported lost %.3f s after SIGKILL (lease 0.5 s)\n", took_s);
+}
+
+}  // namespace
+}  // namespace scancrew::dds_bridge
