@@ -110,6 +110,7 @@ Timer* Component::create_timer(std::chrono::nanoseconds period, Timer::Callback 
   auto timer = std::make_unique<Timer>(clock(), period.count(), std::move(callback),
                                        *context_.callback_group, &active_);
   Timer* raw = timer.get();
+  raw->set_trace_component(trace_name());
   owned_.push_back(std::move(timer));
   executables_.push_back(raw);
   timers_.push_back(raw);

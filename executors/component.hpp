@@ -125,6 +125,7 @@ class Component {
     auto sub = std::make_unique<Subscription<T>>(std::move(topic).value(), qos, std::move(callback),
                                                  *context_.callback_group, &active_);
     Subscription<T>* raw = sub.get();
+    raw->set_trace_component(trace_name());
     owned_.push_back(std::move(sub));
     executables_.push_back(raw);
     return raw;
@@ -140,6 +141,8 @@ class Component {
 
  private:
   std::optional<PortQos> port_qos(std::string_view port) const;
+  // The name a Tracer reports the component's callbacks by: "robot1/stereo".
+  std::string trace_name() const { return qualified_name_.substr(1); }
   void note_port(std::string_view port, const std::string& topic, std::string_view type,
                  EndpointInfo::Kind kind, bool connected);
 

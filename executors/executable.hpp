@@ -4,10 +4,15 @@
 // Thread safety: has_work(), execute() and deadline queries may be called from several
 // executor threads at once; execute() must tolerate losing a race (return false when the
 // work it saw was taken by another thread).
+// Tracing (executors/trace.hpp): an executable carries the names a Tracer reports it by
+// (its component, and its topic or timer period), set at creation, and the id the last
+// Tracer that attached it gave it.
 
 #include <atomic>
 #include <cstdint>
 #include <limits>
+#include <string>
+#include <utility>
 
 #include "executors/callback_group.hpp"
 #include "executors/clock.hpp"
@@ -41,9 +46,25 @@ class Executable {
   virtual int64_t wall_deadline_ns() const { return kNoDeadline; }
   virtual int64_t sim_deadline_ns() const { return kNoDeadline; }
 
+  // Trace names (set-up only; they allocate): the component ("r1/mapper"; empty: the
+  // callback group's name stands for it) and what runs (a topic name, "timer 100ms").
+  void set_trace_component(std::string component) { trace_component_ = std::move(component); }
+  const std::string& trace_component() const { return trace_component_; }
+  const std::string& trace_what() const { return trace_what_; }
+  // The id a Tracer gave this executable in Tracer::attach() (set-up only).
+  static constexpr uint32_t kNoTraceId = std::numeric_limits<uint32_t>::max();
+  uint32_t trace_id() const { return trace_id_; }
+  void set_trace_id(uint32_t id) { trace_id_ = id; }
+
+ protected:
+  void set_trace_what(std::string what) { trace_what_ = std::move(what); }
+
  private:
   CallbackGroup* group_;
   const std::atomic<bool>* active_;
+  std::string trace_component_;
+  std::string trace_what_;
+  uint32_t trace_id_ = kNoTraceId;
 };
 
 }  // namespace scancrew

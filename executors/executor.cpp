@@ -25,6 +25,7 @@ void Executor::add(Executable& executable) {
         std::find(executables_.begin(), executables_.end(), &executable) == executables_.end(),
         "executable added twice");
     executables_.push_back(&executable);
+    if (tracer_ != nullptr) tracer_->attach(executable);
   }
   executable.set_wake_target(this);
   wake();
@@ -66,8 +67,16 @@ Executable* Executor::claim_ready_locked() {
   return nullptr;
 }
 
+void Executor::set_tracer(Tracer* tracer) {
+  std::lock_guard lock(mutex_);
+  tracer_ = tracer;
+  if (tracer_ != nullptr)
+    for (Executable* e : executables_) tracer_->attach(*e);
+}
+
 void Executor::run(Executable* executable) {
-  if (executable->execute()) executed_.fetch_add(1, std::memory_order_relaxed);
+  const bool ran = tracer_ == nullptr ? executable->execute() : tracer_->execute(*executable);
+  if (ran) executed_.fetch_add(1, std::memory_order_relaxed);
   executable->group().leave();
   // a thread that found this group busy skipped its work: let it look again
   if (group_contended_.exchange(false, std::memory_order_relaxed)) wake();

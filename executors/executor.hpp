@@ -22,6 +22,7 @@
 
 #include "executors/executable.hpp"
 #include "executors/subscriber_queue.hpp"
+#include "executors/trace.hpp"
 
 namespace scancrew {
 
@@ -50,6 +51,10 @@ class Executor : public WakeTarget {
   void stop();
 
   void wake() override;
+  // Records every callback in tracer (null: none, the default) from now on; attaches the
+  // executables added so far and later. Set-up only, while no thread spins; the tracer
+  // outlives the spins.
+  void set_tracer(Tracer* tracer);
   size_t num_threads() const { return num_threads_; }
   uint64_t executed() const { return executed_.load(std::memory_order_relaxed); }
 
@@ -75,6 +80,7 @@ class Executor : public WakeTarget {
   std::atomic<bool> stop_{false};
   std::atomic<bool> group_contended_{false};
   std::atomic<uint64_t> executed_{0};
+  Tracer* tracer_ = nullptr;
 };
 
 class SingleThreadedExecutor final : public Executor {

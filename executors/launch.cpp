@@ -38,13 +38,17 @@ bool is_map_or_absent(const YAML::Node& n) {
 // Reads a launch file into a Launch; collects every error it finds.
 class LaunchBuilder {
  public:
-  explicit LaunchBuilder(std::string file) : file_(std::move(file)) {}
+  LaunchBuilder(std::string file, LaunchOptions options)
+      : file_(std::move(file)), options_(std::move(options)) {}
 
-  Result<std::unique_ptr<Launch>, Launch::Errors> build(const YAML::Node& root) {
+  Result<std::unique_ptr<Launch>, Launch::Errors> build(YAML::Node root) {
     if (!root.IsMap())
       return fail(file_ +
                   ": a launch file is a mapping (clock, executor, run, robots, components)");
+    apply_overrides(root);
+    if (!errors_.empty()) return make_unexpected(errors_);
     auto launch = std::unique_ptr<Launch>(new Launch());
+    launch->out_dir_ = out_dir();
     read_settings(root, launch->settings_);
     read_robots(root["robots"]);
     read_components(root["components"]);
@@ -60,6 +64,56 @@ class LaunchBuilder {
   }
 
  private:
+  std::string out_dir() const {
+    if (!options_.out_dir.empty()) return options_.out_dir;
+    std::string stem = file_.substr(file_.find_last_of('/') + 1);
+    stem = stem.substr(0, stem.find('.'));
+    return "runs/" + (stem.empty() ? std::string("run") : stem);
+  }
+
+  // --set name.key=value: onto the YAML tree before it is read, so that the value goes
+  // through the same checks as the file's own.
+  void apply_overrides(YAML::Node& root) {
+    for (const std::string& o : options_.overrides) {
+      const auto eq = o.find('=');
+      const auto dot = o.find('.');
+      if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 ||
+          dot + 1 == eq) {
+        errors_.push_back("--set " + o + ": expected name.key=value (a component's name or " +
+                          "run / executor, then the parameter)");
+        continue;
+      }
+      const std::string name = o.substr(0, dot), key = o.substr(dot + 1, eq - dot - 1);
+      YAML::Node value;
+      try {
+        value = YAML::Load(o.substr(eq + 1));
+      } catch (const YAML::Exception& e) {
+        errors_.push_back("--set " + o + ": the value is not YAML: " + e.msg);
+        continue;
+      }
+      if (name == "run" || name == "executor") {
+        if (!root[name].IsDefined() || root[name].IsNull())
+          root[name] = YAML::Node(YAML::NodeType::Map);
+        root[name][key] = value;
+        continue;
+      }
+      bool found = false;
+      YAML::Node components = root["components"];
+      if (components.IsSequence())
+        for (size_t i = 0; i < components.size(); ++i) {
+          YAML::Node c = components[i];
+          if (!c.IsMap() || !c["name"].IsScalar() || c["name"].Scalar() != name) continue;
+          if (!c["params"].IsDefined() || c["params"].IsNull())
+            c["params"] = YAML::Node(YAML::NodeType::Map);
+          c["params"][key] = value;
+          found = true;
+        }
+      if (!found)
+        errors_.push_back("--set " + o + ": no component named '" + name +
+                          "' (nor run / executor) in " + file_);
+    }
+  }
+
   void merge(const ParamReader& reader) {
     errors_.insert(errors_.end(), reader.errors().begin(), reader.errors().end());
   }
@@ -305,8 +359,12 @@ class LaunchBuilder {
         if (!group) group = std::make_shared<CallbackGroup>(group_key, spec.group_type);
         ctx.callback_group = group;
         // a per-robot component's strings name their robot: "{ns}", "{id}"
-        std::vector<std::pair<std::string, std::string>> names;
-        if (spec.per_robot) names = {{"{ns}", robot.ns}, {"{id}", std::to_string(robot.id)}};
+        // and every component's, the run directory: "{out}"
+        std::vector<std::pair<std::string, std::string>> names = {{"{out}", out_dir()}};
+        if (spec.per_robot) {
+          names.emplace_back("{ns}", robot.ns);
+          names.emplace_back("{id}", std::to_string(robot.id));
+        }
         ParamReader params =
             make_param_reader(spec.params, file_, spec.path + ".params", std::move(names));
         auto made = registry.find(spec.type)->factory(std::move(ctx), params);
@@ -358,6 +416,7 @@ class LaunchBuilder {
   }
 
   std::string file_;
+  LaunchOptions options_;
   std::vector<std::string> errors_;
   std::set<std::string> top_known_;
   std::vector<RobotSpec> robots_;
@@ -365,17 +424,19 @@ class LaunchBuilder {
 };
 
 Result<std::unique_ptr<Launch>, Launch::Errors> Launch::from_string(const std::string& text,
-                                                                    const std::string& label) {
-  LaunchBuilder builder(label);
+                                                                    const std::string& label,
+                                                                    const LaunchOptions& options) {
+  LaunchBuilder builder(label, options);
   auto root = parse_yaml(text, label);
   if (!root) return builder.fail(root.error());
   return builder.build(*root);
 }
 
-Result<std::unique_ptr<Launch>, Launch::Errors> Launch::from_file(const std::string& path) {
+Result<std::unique_ptr<Launch>, Launch::Errors> Launch::from_file(const std::string& path,
+                                                                  const LaunchOptions& options) {
   const auto text = read_text_file(path);
   if (!text) return make_unexpected(Errors{path + ": cannot open the launch file"});
-  return from_string(*text, path);
+  return from_string(*text, path, options);
 }
 
 Launch::~Launch() {
@@ -389,6 +450,13 @@ Launch::~Launch() {
   }
   // components (and their endpoints) go before the graph that owns the topics
   components_.clear();
+}
+
+void Launch::enable_tracing(size_t max_events) {
+  auto tracer = std::make_unique<Tracer>(max_events);
+  if (executor_) executor_->set_tracer(tracer.get());
+  if (step_executor_) step_executor_->set_tracer(tracer.get());
+  tracer_ = std::move(tracer);
 }
 
 void Launch::activate_all() {
@@ -416,7 +484,8 @@ double Launch::run_stepped(const Progress& progress) {
   SimClock& clock = step_executor_->clock();
   const int64_t start = clock.now_ns();
   int64_t next_report = start + period_ns;
-  while (!stop_requested_.load() && (end_ns == 0 || clock.now_ns() - start < end_ns)) {
+  while (!stop_requested_.load() && (end_ns == 0 || clock.now_ns() - start < end_ns) &&
+         !(stop_when_ && stop_when_())) {
     int64_t target = clock.now_ns() + step_ns;
     if (end_ns != 0) target = std::min(target, start + end_ns);
     step_executor_->run_until(target);
@@ -441,7 +510,8 @@ double Launch::run_threaded(const Progress& progress) {
   };
   double next_report = settings_.progress_period_s;
   while (!stop_requested_.load() &&
-         (settings_.duration_s == 0 || elapsed() < settings_.duration_s)) {
+         (settings_.duration_s == 0 || elapsed() < settings_.duration_s) &&
+         !(stop_when_ && stop_when_())) {
     if (sim) {
       // free-running sim time, paced to the real-time factor (0: as fast as possible)
       const int64_t step_ns = static_cast<int64_t>(settings_.sim_step_s * 1e9);

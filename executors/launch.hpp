@@ -22,6 +22,7 @@
 #include "executors/executor.hpp"
 #include "executors/graph.hpp"
 #include "executors/step_executor.hpp"
+#include "executors/trace.hpp"
 
 namespace scancrew {
 
@@ -37,6 +38,16 @@ struct LaunchSettings {
   double progress_period_s = 1.0;  // how often run() reports progress
 };
 
+// What the command line adds to a launch file.
+struct LaunchOptions {
+  // "name.key=value": sets params.key of the component `name`, or key of the run / executor
+  // section ("run.duration_s=60"); the value is YAML ("[1, 2]", "true", "0.2").
+  std::vector<std::string> overrides;
+  // Replaces "{out}" in every component's string parameters (the run directory); empty:
+  // "runs/<launch file stem>".
+  std::string out_dir;
+};
+
 class Launch {
  public:
   using Errors = std::vector<std::string>;
@@ -44,9 +55,13 @@ class Launch {
   // seconds on the launch's clock.
   using Progress = std::function<void(double elapsed_s, double duration_s)>;
 
-  static Result<std::unique_ptr<Launch>, Errors> from_file(const std::string& path);
+  static Result<std::unique_ptr<Launch>, Errors> from_file(const std::string& path,
+                                                           const LaunchOptions& options = {});
   static Result<std::unique_ptr<Launch>, Errors> from_string(const std::string& text,
-                                                             const std::string& label);
+                                                             const std::string& label,
+                                                             const LaunchOptions& options = {});
+  // The run directory "{out}" stands for.
+  const std::string& out_dir() const { return out_dir_; }
   ~Launch();
   Launch(const Launch&) = delete;
   Launch& operator=(const Launch&) = delete;
@@ -67,6 +82,16 @@ class Launch {
     return nullptr;
   }
   void request_stop() { stop_requested_.store(true); }
+  // Checked between steps (step executor) or progress polls (threaded): true ends run() as
+  // request_stop() does. Set before run(), from the thread that runs it.
+  void set_stop_condition(std::function<bool()> stop_when) { stop_when_ = std::move(stop_when); }
+
+  // Records every callback of the launch's executor from now on (docs/runtime.md,
+  // "Tracing"): totals per component, and up to max_events timeline events (buffer
+  // allocated here). Call before run(), not while it runs. Off by default.
+  void enable_tracing(size_t max_events);
+  // The tracer (null while tracing is off), for component_times() and write_chrome_trace().
+  const Tracer* tracer() const { return tracer_.get(); }
 
  private:
   Launch() = default;
@@ -83,6 +108,9 @@ class Launch {
   std::unique_ptr<Executor> executor_;
   std::unique_ptr<StepExecutor> step_executor_;
   std::atomic<bool> stop_requested_{false};
+  std::function<bool()> stop_when_;
+  std::string out_dir_;
+  std::unique_ptr<Tracer> tracer_;  // the executor points to it; null: tracing off
 
   friend class LaunchBuilder;
 };

@@ -14,7 +14,14 @@ void StepExecutor::add(Executable& executable) {
   SCANCREW_CHECK(executable.wall_deadline_ns() == Executable::kNoDeadline,
                  "a StepExecutor runs on sim time only: create timers on the sim clock");
   executables_.push_back(&executable);
+  if (tracer_ != nullptr) tracer_->attach(executable);
   executable.set_wake_target(this);
+}
+
+void StepExecutor::set_tracer(Tracer* tracer) {
+  tracer_ = tracer;
+  if (tracer_ != nullptr)
+    for (Executable* e : executables_) tracer_->attach(*e);
 }
 
 void StepExecutor::remove(Executable& executable) {
@@ -29,7 +36,7 @@ size_t StepExecutor::drain(size_t max_units) {
     progress = false;
     for (Executable* e : executables_) {
       if (!e->enabled() || !e->has_work()) continue;
-      if (e->execute()) {
+      if (tracer_ == nullptr ? e->execute() : tracer_->execute(*e)) {
         ++ran;
         progress = true;
         SCANCREW_CHECK(ran < max_units, "StepExecutor: callbacks keep producing work (livelock?)");

@@ -16,6 +16,7 @@
 #include "executors/clock.hpp"
 #include "executors/executable.hpp"
 #include "executors/subscriber_queue.hpp"
+#include "executors/trace.hpp"
 
 namespace scancrew {
 
@@ -36,12 +37,17 @@ class StepExecutor final : public WakeTarget {
   // Drains ready work without moving time.
   size_t drain(size_t max_units = 100'000'000);
 
+  // Records every callback in tracer (null: none, the default); attaches the executables
+  // added so far and later. Set-up only; the tracer outlives the runs.
+  void set_tracer(Tracer* tracer);
+
   SimClock& clock() { return clock_; }
   void wake() override {}  // nothing sleeps: run_until() looks at every executable
 
  private:
   SimClock& clock_;
   std::vector<Executable*> executables_;
+  Tracer* tracer_ = nullptr;
 };
 
 }  // namespace scancrew

@@ -26,6 +26,7 @@ class Subscription final : public Executable {
         queue_(qos),
         callback_(std::move(callback)) {
     SCANCREW_CHECK(qos.depth > 0, "subscription depth must be positive");
+    set_trace_what(topic_->name());
     topic_->attach(queue_);
   }
   ~Subscription() override { topic_->detach(queue_); }

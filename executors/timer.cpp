@@ -1,9 +1,23 @@
 #include "executors/timer.hpp"
 
+#include <string>
+
 #include "executors/check.hpp"
 #include "executors/subscriber_queue.hpp"
 
 namespace scancrew {
+
+namespace {
+
+// "100ms", "1s", "250us", "7ns": the largest unit that divides the period exactly.
+std::string format_period(int64_t period_ns) {
+  if (period_ns % 1'000'000'000 == 0) return std::to_string(period_ns / 1'000'000'000) + "s";
+  if (period_ns % 1'000'000 == 0) return std::to_string(period_ns / 1'000'000) + "ms";
+  if (period_ns % 1'000 == 0) return std::to_string(period_ns / 1'000) + "us";
+  return std::to_string(period_ns) + "ns";
+}
+
+}  // namespace
 
 Timer::Timer(Clock& clock, int64_t period_ns, Callback callback, CallbackGroup& group,
              const std::atomic<bool>* active)
@@ -13,6 +27,7 @@ Timer::Timer(Clock& clock, int64_t period_ns, Callback callback, CallbackGroup& 
       callback_(std::move(callback)) {
   SCANCREW_CHECK(period_ns > 0, "timer period must be positive");
   next_ns_.store(now_ns() + period_ns_);
+  set_trace_what("timer " + format_period(period_ns));
 }
 
 Timer::~Timer() {

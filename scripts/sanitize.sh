@@ -10,7 +10,7 @@ cmake --preset "$kind" >/dev/null
 # The mapping core runs on TBB, whose library is not built with TSan: TSan would report
 # TBB's own work-stealing handshakes as races, so the mapping tests are ASan-only
 # (label "sanitize_asan").
-targets=(test_executors test_no_allocation test_interfaces)
+targets=(test_executors test_no_allocation test_trace test_interfaces)
 [ "$kind" = asan ] && targets+=(test_tsdf test_tsdf_mesh test_tsdf_patch test_ise test_tsga_solver
   test_tsga_planner test_low_level_checks test_tracker_law test_dds_link_model)
 # test_low_level_planner is left out for now: LeakSanitizer reports OMPL states

@@ -11,6 +11,8 @@
 #include "executors/executor.hpp"
 #include "executors/publisher.hpp"
 #include "executors/subscription.hpp"
+#include "executors/timer.hpp"
+#include "executors/trace.hpp"
 #include "tests/executors/test_messages.hpp"
 
 namespace {
@@ -93,6 +95,38 @@ TEST(NoAllocation, SteadyStatePublishAndDeliveryOnOneThreadAllocateNothing) {
   EXPECT_GT(b.queue().dropped.load(), 0u);
   executor.remove(a);
   executor.remove(b);
+}
+
+TEST(NoAllocation, TracedCallbacksAllocateNothingAlsoWhenTheBufferIsFull) {
+  WallClock clock;
+  CallbackGroup group("g", CallbackGroup::Type::kMutuallyExclusive);
+  auto topic = std::make_shared<Topic<Blob>>("/blob", 4);
+  Publisher<Blob> pub(topic, 0, &clock, nullptr);
+  uint64_t sum = 0;
+  Subscription<Blob> sub(
+      topic, {.depth = 2}, [&](Sample<Blob>&& s) { sum += s->bytes[0]; }, group, nullptr);
+  Timer timer(
+      clock, 1, [&] { ++sum; }, group, nullptr);  // due at every look
+  Tracer tracer(500);  // fills up half-way: both the recording and the dropping path run
+  SingleThreadedExecutor executor;
+  executor.set_tracer(&tracer);
+  executor.add(sub);
+  executor.add(timer);
+  warm_every_slot(pub, 1000);
+  AllocationWindow window;
+  for (int i = 0; i < 1000; ++i) {
+    ASSERT_TRUE(publish_one(pub, 1000, 1));
+    executor.spin_some(2);
+  }
+  EXPECT_EQ(window.close(), 0u);
+  EXPECT_EQ(tracer.event_count(), 500u);
+  EXPECT_GT(tracer.dropped_events(), 0u);
+  uint64_t callbacks = 0;
+  for (const auto& t : tracer.component_times()) callbacks += t.callbacks;
+  EXPECT_EQ(callbacks, executor.executed());
+  EXPECT_EQ(callbacks, tracer.event_count() + tracer.dropped_events());
+  executor.remove(sub);
+  executor.remove(timer);
 }
 
 TEST(NoAllocation, SteadyStateDeliveryToAnotherThreadAllocatesNothing) {
