@@ -1,8 +1,7 @@
-// scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, eval, bench
-// (ipc, sim, perception, tsdf, ise, tsp, planner).
+// scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, eval,
+// report, bench (ipc, sim, perception, tsdf, ise, tsp, planner).
 
 #include <CLI/CLI.hpp>
-#include <csignal>
 #include <cstdio>
 #include <string>
 
@@ -10,8 +9,10 @@
 #include "cli/groundtruth_command.hpp"
 #include "cli/render_command.hpp"
 #include "cli/report.hpp"
+#include "cli/run_command.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
+#include "mission/run_report.hpp"
 #ifdef SCANCREW_WITH_BENCH
 #include "bench/ipc/ipc_bench.hpp"
 #include "bench/ise/ise_bench.hpp"
@@ -24,12 +25,6 @@
 
 namespace {
 
-scancrew::Launch* g_running = nullptr;
-
-void on_signal(int /*signal*/) {
-  if (g_running != nullptr) g_running->request_stop();
-}
-
 std::unique_ptr<scancrew::Launch> compose_or_report(const std::string& path) {
   auto launch = scancrew::Launch::from_file(path);
   if (!launch) {
@@ -39,25 +34,6 @@ std::unique_ptr<scancrew::Launch> compose_or_report(const std::string& path) {
     return nullptr;
   }
   return std::move(launch).value();
-}
-
-int cmd_run(const std::string& path) {
-  auto launch = compose_or_report(path);
-  if (!launch) return 2;
-  for (const auto& w : launch->report().warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  g_running = launch.get();
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  std::fprintf(stderr, "scancrew: running %s (%zu components; Ctrl-C stops)\n", path.c_str(),
-               launch->components().size());
-  launch->run([&](double elapsed, double duration) {
-    scancrew::cli::print_progress(stderr, launch->graph(), elapsed, duration, false);
-  });
-  g_running = nullptr;
-  std::signal(SIGINT, SIG_DFL);
-  std::fprintf(stderr, "\n");
-  scancrew::cli::print_topic_stats(stdout, launch->graph());
-  return 0;
 }
 
 int cmd_components() {
@@ -74,17 +50,37 @@ int cmd_graph(const std::string& path) {
   return launch->report().errors.empty() ? 0 : 2;
 }
 
+int cmd_report(const std::string& run_dir) {
+  const auto written = scancrew::mission::write_report(run_dir);
+  if (!written) {
+    std::fprintf(stderr, "scancrew report: %s\n", written.error().c_str());
+    return 1;
+  }
+  std::printf("report: %s/report.html\n", run_dir.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"scancrew: multi-robot 3D reconstruction (runtime, simulator, planners)"};
   app.require_subcommand(1);
 
-  std::string launch_path;
-  auto* run = app.add_subcommand("run", "compose a launch file and run it");
-  run->add_option("launch", launch_path, "launch file (YAML)")
+  scancrew::cli::RunOptions run_options;
+  auto* run = app.add_subcommand(
+      "run", "compose a launch file and run it; a mission writes its run directory and report");
+  run->add_option("launch", run_options.launch_path, "launch file (YAML)")
       ->required()
       ->check(CLI::ExistingFile);
+  run->add_option("--out", run_options.out_dir,
+                  "run directory ({out} in the launch file; default runs/<launch stem>)");
+  run->add_option("--set", run_options.sets,
+                  "override a parameter: name.key=value (a component's name, or run / executor)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  run->add_option("--trace-events", run_options.trace_events,
+                  "missions: callbacks kept for trace.json (24 bytes each; 0: no tracing)")
+      ->capture_default_str();
 
   auto* components = app.add_subcommand("components", "list the registered component types");
 
@@ -140,6 +136,12 @@ int main(int argc, char** argv) {
                    "ground-truth points per m2 (default 10000)");
   eval->add_option("--seed", eval_options.seed, "ground-truth random seed (default 1)");
   eval->add_flag("--json", eval_options.json, "print one JSON object");
+
+  std::string report_dir;
+  auto* report = app.add_subcommand(
+      "report", "write a mission run directory's pictures and report.html (docs/missions.md)");
+  report->add_option("run_dir", report_dir, "run directory (scancrew run ... --out DIR)")
+      ->required();
 
   auto* bench = app.add_subcommand("bench", "benchmarks");
   bench->require_subcommand(1);
@@ -299,12 +301,13 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
 
-  if (run->parsed()) return cmd_run(launch_path);
+  if (run->parsed()) return scancrew::cli::run_launch(run_options);
   if (components->parsed()) return cmd_components();
   if (graph->parsed()) return cmd_graph(graph_path);
   if (render->parsed()) return scancrew::cli::run_render(render_options);
   if (groundtruth->parsed()) return scancrew::cli::run_groundtruth(gt_options);
   if (eval->parsed()) return scancrew::cli::run_eval(eval_options);
+  if (report->parsed()) return cmd_report(report_dir);
   if (sim_cmd->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_sim_bench(sim_bench);

@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 [ -f build/release/compile_commands.json ] || ./scripts/build.sh release
-mapfile -t files < <(git ls-files 'executors/*.cpp' 'components/*.cpp' 'cli/*.cpp' 'sim/*.cpp' 'eval/*.cpp' \
+mapfile -t files < <(git ls-files 'executors/*.cpp' 'components/*.cpp' 'cli/*.cpp' 'sim/*.cpp' 'eval/*.cpp' 'mission/*.cpp' \
   'bench/sim/*.cpp' 'bench/perception/*.cpp' 'bench/tsdf/*.cpp' 'bench/ise/*.cpp' 'bench/tsp/*.cpp' ':!bench/tsdf/open3d_peer.cpp')
 out=$(mktemp)
 if ! clang-tidy -p build/release --quiet --warnings-as-errors='*' "${files[@]}" >"$out" 2>&1; then

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Quick start 1: installs, builds and runs the main job.
-# Until the mission exists (step 9) the main job is the runtime demo graph: two robots,
-# each with a synthetic stereo camera, a disparity probe and a monitor, for 5 s.
+# The main job is the default mission: two ground robots reconstruct the parking lot in the
+# distributed architecture (launch_cfg/missions/parking_lot_2_distributed.yaml); the run
+# directory (mesh, metrics, pictures, report.html) goes to runs/parking_lot, or to $2.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install_deps.sh
 ./scripts/build.sh release
-./build/release/cli/scancrew run "${1:-launch_cfg/demo_runtime.yaml}"
+./build/release/cli/scancrew run "${1:-launch_cfg/missions/parking_lot_2_distributed.yaml}" \
+  --out "${2:-runs/parking_lot}"

@@ -90,6 +90,7 @@ class TsdfMapper final : public Component {
   ~TsdfMapper() override;
 
   const TsdfMapperStats& stats() const { return stats_; }
+  const Config& config() const { return config_; }
   // The current global estimate (a fresh snapshot; for tests, tools and the end of a run).
   std::shared_ptr<const MapSnapshot> snapshot() const;
   // IDs of the patches held (private + public).

@@ -1,0 +1,334 @@
+#include "cli/run_command.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "cli/report.hpp"
+#include "components/low_level/low_level_planner.hpp"
+#include "components/mission/mission_monitor.hpp"
+#include "components/team_simulator/team_simulator.hpp"
+#include "components/tsdf/tsdf_mapper.hpp"
+#include "eval/ply_mesh.hpp"
+#include "eval/reconstruction_error.hpp"
+#include "executors/launch.hpp"
+#include "executors/trace.hpp"
+#include "mission/run_files.hpp"
+#include "mission/run_report.hpp"
+#include "sim/mesh_io.hpp"
+#include "sim/scene.hpp"
+#include "sim/surface_sampler.hpp"
+
+namespace scancrew::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using components::MissionMonitor;
+using Json = nlohmann::ordered_json;
+
+Launch* g_running = nullptr;
+
+void on_signal(int /*signal*/) {
+  if (g_running != nullptr) g_running->request_stop();
+}
+
+std::string local_time_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S", &tm);
+  return buf;
+}
+
+// NaN and infinities have no JSON form: null.
+Json number_or_null(double v) {
+  return std::isfinite(v) ? Json(v) : Json(nullptr);
+}
+
+void print_mission_progress(const MissionMonitor& monitor, double elapsed_s, double duration_s,
+                            double wall_s, bool final) {
+  static const bool tty = isatty(fileno(stderr)) != 0;
+  char head[96];
+  std::snprintf(head, sizeof head, "t %6.1f / %.0f s  x%.1f  ", elapsed_s, duration_s,
+                wall_s > 0 ? elapsed_s / wall_s : 0.0);
+  std::fprintf(stderr, "%s%s%s%s", tty ? "\r\033[K" : "", head, monitor.status_line().c_str(),
+               tty && !final ? "" : "\n");
+  std::fflush(stderr);
+}
+
+struct MeshScore {
+  std::string robot_ns;
+  std::string mesh_path, octomap_path;
+  double voxel_m = 0;
+  std::optional<eval::ReconstructionError> error;
+};
+
+// Each mapper's mesh (written as the launch stopped) against the scene's ground truth.
+std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& monitor) {
+  std::vector<MeshScore> scores;
+  for (const auto& c : launch.components()) {
+    const auto* mapper = dynamic_cast<const tsdf::TsdfMapper*>(c.get());
+    if (mapper == nullptr) continue;
+    MeshScore s;
+    for (const auto& r : monitor.robots())
+      if (r.id == mapper->robot_id()) s.robot_ns = r.ns;
+    s.mesh_path = mapper->config().mesh_path;
+    s.octomap_path = mapper->config().octomap_path;
+    s.voxel_m = mapper->config().tsdf.voxel_m;
+    scores.push_back(std::move(s));
+  }
+  const std::string& scene_path = monitor.config().scene;
+  if (scene_path.empty()) return scores;
+  auto scene = sim::load_scene(scene_path);
+  if (!scene) return scores;
+  auto meshes = sim::load_scene_meshes(*scene);
+  if (!meshes) return scores;
+  const auto truth = sim::sample_surfaces(
+      *scene, *meshes, {.density_per_m2 = monitor.config().eval_density_per_m2, .seed = 1});
+  if (!truth) {
+    std::fprintf(stderr, "scancrew run: evaluation: %s\n", truth.error().c_str());
+    return scores;
+  }
+  for (MeshScore& s : scores) {
+    if (s.mesh_path.empty()) continue;
+    const auto mesh = eval::read_ply_mesh(s.mesh_path);
+    if (!mesh) {
+      std::fprintf(stderr, "scancrew run: evaluation: %s\n", mesh.error().c_str());
+      continue;
+    }
+    auto r = eval::reconstruction_error(*mesh, truth->points, truth->normals,
+                                        {.e_max_m = eval::max_error_for_voxel(s.voxel_m)});
+    if (r)
+      s.error = std::move(r).value();
+    else
+      std::fprintf(stderr, "scancrew run: evaluation of %s: %s\n", s.mesh_path.c_str(),
+                   r.error().c_str());
+  }
+  return scores;
+}
+
+bool copy_into(const std::string& from, const fs::path& to) {
+  std::error_code ec;
+  if (from.empty() || !fs::exists(from, ec)) return false;
+  if (fs::exists(to, ec) && fs::equivalent(from, to, ec)) return true;
+  fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
+  if (ec)
+    std::fprintf(stderr, "scancrew run: copying %s: %s\n", from.c_str(), ec.message().c_str());
+  return !ec;
+}
+
+struct RunFacts {
+  std::string launch_path, started, stop_reason;
+  double sim_s = 0, wall_s = 0;
+};
+
+// Writes the run directory; returns false (after saying why) if a file could not be written.
+bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, const RunFacts& run,
+                         const fs::path& out) {
+  bool ok = true;
+  auto check = [&](const Result<void, std::string>& r) {
+    if (!r) {
+      std::fprintf(stderr, "scancrew run: %s\n", r.error().c_str());
+      ok = false;
+    }
+  };
+  check(mission::write_paths_csv((out / "paths.csv").string(), monitor.paths()));
+  check(mission::write_coverage_csv((out / "coverage.csv").string(), monitor.coverage()));
+
+  const auto scores = score_meshes(launch, monitor);
+  const MeshScore* best = nullptr;
+  for (const MeshScore& s : scores)
+    if (s.error && (best == nullptr || s.error->coverage > best->error->coverage)) best = &s;
+  if (best == nullptr)
+    for (const MeshScore& s : scores)
+      if (!s.mesh_path.empty() && best == nullptr) best = &s;
+  if (best != nullptr) {
+    copy_into(best->mesh_path, out / "mesh.ply");
+    copy_into(best->octomap_path, out / "map.bt");
+  }
+
+  Json m;
+  m["launch"] = run.launch_path;
+  m["scene"] = monitor.config().scene;
+  std::string architecture = "single";
+  uint64_t bytes = 0;
+  for (const auto& c : launch.components())
+    if (const auto* mapper = dynamic_cast<const tsdf::TsdfMapper*>(c.get())) {
+      architecture = mapper->config().mode;
+      bytes += mapper->stats().patch_wire_bytes;
+    }
+  m["architecture"] = architecture;
+  m["started"] = run.started;
+  m["completed"] = run.stop_reason == "complete";
+  m["stop_reason"] = run.stop_reason;
+  const auto completion = monitor.completion_time_s();
+  m["completion_time_s"] = completion ? Json(*completion) : Json(nullptr);
+  m["sim_time_s"] = run.sim_s;
+  m["wall_time_s"] = run.wall_s;
+  m["real_time_factor"] = number_or_null(run.wall_s > 0 ? run.sim_s / run.wall_s : NAN);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const eval::ReconstructionError* e = best && best->error ? &*best->error : nullptr;
+  m["mesh_from"] = best ? Json(best->robot_ns) : Json(nullptr);
+  m["coverage"] = number_or_null(e ? e->coverage : nan);
+  m["mean_error_m"] = number_or_null(e ? e->mean_error_m : nan);
+  m["std_error_m"] = number_or_null(e ? e->std_error_m : nan);
+  m["rmse_m"] = number_or_null(e ? e->rmse_m : nan);
+  m["eval_density_per_m2"] = monitor.config().eval_density_per_m2;
+
+  std::map<uint32_t, const low_level::LowLevelPlanner*> planners;
+  uint64_t robot_robot = 0, robot_scene = 0;
+  for (const auto& c : launch.components()) {
+    if (const auto* p = dynamic_cast<const low_level::LowLevelPlanner*>(c.get()))
+      planners[p->robot_id()] = p;
+    if (const auto* s = dynamic_cast<const components::TeamSimulator*>(c.get());
+        s && s->simulator()) {
+      robot_robot += s->simulator()->contacts().robot_robot;
+      robot_scene += s->simulator()->contacts().robot_scene;
+    }
+  }
+  double total_length = 0;
+  uint64_t replans = 0;
+  Json robots = Json::array();
+  for (const auto& r : monitor.robots()) {
+    Json j;
+    j["id"] = r.id;
+    j["namespace"] = r.ns;
+    j["kind"] = r.kind;
+    j["path_length_m"] = r.path_length_m;
+    total_length += r.path_length_m;
+    const auto p = planners.find(r.id);
+    const uint64_t robot_replans =
+        p != planners.end() ? p->second->stats().replans : r.planning_requests;
+    replans += robot_replans;
+    j["replans"] = robot_replans;
+    double coverage = r.coverage >= 0 ? r.coverage : nan;
+    for (const MeshScore& s : scores)
+      if (s.robot_ns == r.ns && s.error) coverage = s.error->coverage;
+    j["coverage"] = number_or_null(coverage);
+    if (p != planners.end()) j["goals_reached"] = p->second->stats().goals_reached;
+    j["ises_left"] = r.ises_left;
+    j["state"] = r.have_state ? std::string(MissionMonitor::mode_name(r.mode)) : "starting";
+    robots.push_back(std::move(j));
+  }
+  m["total_path_length_m"] = total_length;
+  m["data_exchanged_bytes"] = bytes;
+  m["collisions"] = robot_robot + robot_scene;
+  m["contacts"] = {{"robot_robot", robot_robot}, {"robot_scene", robot_scene}};
+  m["replans"] = replans;
+  m["robots"] = std::move(robots);
+  if (const Tracer* tracer = launch.tracer()) {
+    Json times = Json::object();
+    for (const ComponentTime& t : tracer->component_times())
+      times[t.component] = {{"callbacks", t.callbacks},
+                            {"total_ms", t.total_ms},
+                            {"p50_ms", t.p50_ms},
+                            {"p99_ms", t.p99_ms}};
+    m["compute_ms"] = std::move(times);
+    check(tracer->write_chrome_trace((out / "trace.json").string()));
+    if (tracer->dropped_events() > 0)
+      std::fprintf(stderr,
+                   "scancrew run: trace.json holds the first %zu callbacks; %llu more were only "
+                   "counted (--trace-events)\n",
+                   static_cast<size_t>(tracer->event_count()),
+                   static_cast<unsigned long long>(tracer->dropped_events()));
+  }
+
+  std::ofstream file(out / "metrics.json");
+  file << m.dump(2) << "\n";
+  if (!file) {
+    std::fprintf(stderr, "scancrew run: cannot write %s\n", (out / "metrics.json").c_str());
+    return false;
+  }
+  file.close();
+  check(mission::write_report(out.string()));
+
+  const char* how = run.stop_reason == "complete"      ? "complete"
+                    : run.stop_reason == "stalled"     ? "stalled"
+                    : run.stop_reason == "interrupted" ? "interrupted"
+                                                       : "out of time";
+  std::printf("mission %s after %.1f s simulated (%.1f s wall)", how, run.sim_s, run.wall_s);
+  if (e) std::printf("; coverage %.2f %% (map of %s)", 100 * e->coverage, best->robot_ns.c_str());
+  std::printf("; contacts robot-scene %llu robot-robot %llu\n",
+              static_cast<unsigned long long>(robot_scene),
+              static_cast<unsigned long long>(robot_robot));
+  std::printf("run directory %s: report %s\n", out.c_str(), (out / "report.html").c_str());
+  return ok;
+}
+
+}  // namespace
+
+int run_launch(const RunOptions& o) {
+  auto composed = Launch::from_file(o.launch_path, {.overrides = o.sets, .out_dir = o.out_dir});
+  if (!composed) {
+    std::fprintf(stderr, "scancrew: %s: %zu error(s); nothing was started\n", o.launch_path.c_str(),
+                 composed.error().size());
+    for (const auto& e : composed.error()) std::fprintf(stderr, "  %s\n", e.c_str());
+    return 2;
+  }
+  auto launch = std::move(composed).value();
+  for (const auto& w : launch->report().warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  const MissionMonitor* monitor = launch->find_component<MissionMonitor>();
+  const fs::path out = launch->out_dir();
+  if (monitor != nullptr) {
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (ec) {
+      std::fprintf(stderr, "scancrew run: cannot create the run directory %s: %s\n", out.c_str(),
+                   ec.message().c_str());
+      return 1;
+    }
+    launch->set_stop_condition([monitor] { return monitor->finished(); });
+    if (o.trace_events > 0) launch->enable_tracing(o.trace_events);
+  }
+  RunFacts run{.launch_path = o.launch_path, .started = local_time_now()};
+  g_running = launch.get();
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::fprintf(stderr, "scancrew: running %s (%zu components; Ctrl-C stops%s)\n",
+               o.launch_path.c_str(), launch->components().size(),
+               monitor ? ", results are still written" : "");
+  const auto wall_start = std::chrono::steady_clock::now();
+  const auto wall = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  };
+  bool interrupted = false;
+  run.sim_s = launch->run([&](double elapsed, double duration) {
+    if (monitor)
+      print_mission_progress(*monitor, elapsed, duration, wall(), false);
+    else
+      print_progress(stderr, launch->graph(), elapsed, duration, false);
+  });
+  run.wall_s = wall();
+  // a signal during the run left request_stop() set; the monitor's stop is not a signal
+  interrupted = monitor && !monitor->finished() && launch->settings().duration_s > 0 &&
+                run.sim_s + 1e-6 < launch->settings().duration_s;
+  g_running = nullptr;
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  std::fprintf(stderr, "\n");
+  if (monitor == nullptr) {
+    print_topic_stats(stdout, launch->graph());
+    return 0;
+  }
+  print_mission_progress(*monitor, run.sim_s, launch->settings().duration_s, run.wall_s, true);
+  run.stop_reason = monitor->finished() ? monitor->stop_reason()
+                    : interrupted       ? "interrupted"
+                                        : "time_budget";
+  // the per-topic table goes to the run directory; the terminal gets the summary
+  if (std::FILE* f = std::fopen((out / "topics.txt").c_str(), "w"); f != nullptr) {
+    print_topic_stats(f, launch->graph());
+    std::fclose(f);
+  }
+  return write_run_directory(*launch, *monitor, run, out) ? 0 : 1;
+}
+
+}  // namespace scancrew::cli

@@ -1,0 +1,29 @@
+#pragma once
+
+// `scancrew run <launch.yaml> [--out DIR] [--set name.key=value ...]`: composes the launch
+// file and runs it. A launch file with a mission_monitor (components/mission) is a mission:
+// it stops when the monitor says the mission is complete (or stalled), when run.duration_s
+// (the time budget) is spent, or on Ctrl-C, and in every case writes its run directory
+// (docs/missions.md): paths, coverage over time, the mesh and map, metrics.json, trace.json,
+// pictures and report.html.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace scancrew::cli {
+
+struct RunOptions {
+  std::string launch_path;
+  std::string out_dir;            // "" = runs/<launch stem>
+  std::vector<std::string> sets;  // name.key=value
+  // missions: per-component compute time and trace.json, at most this many callbacks kept
+  // (24 bytes each; beyond it only counted); 0: no tracing
+  size_t trace_events = 1'000'000;
+};
+
+// 0: ran (a mission: its run directory written); 2: the launch file was refused; 1: the
+// run directory could not be written.
+int run_launch(const RunOptions& options);
+
+}  // namespace scancrew::cli

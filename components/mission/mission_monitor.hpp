@@ -1,0 +1,118 @@
+#pragma once
+
+// MissionMonitor: watches a team mission from outside the robots' graphs (one instance,
+// per_robot: false) and decides when it is over. It is what `scancrew run --out DIR` reads
+// to fill the run directory (docs/missions.md): each robot's ground-truth path, the share
+// of the scene's surface its map has seen over time (surface_coverage.hpp), its ISEs left,
+// its state (msg::RobotState from the low-level planner) and how often it asked to replan.
+//
+// The mission is complete (thesis 2.4: the ISE stopping criterion) when every ISE source —
+// each robot's ise_extractor (maps: per_robot) or the station's (shared) — reports
+// `complete` (C_ins empty over its consecutive updates); the completion time is the sim
+// time of the last of them. It is stalled when no source is complete but every robot has
+// been idle or done for stall_timeout_s (nothing left it can reach). finished() then turns
+// true, with the reason; the caller stops the launch (Launch::run's stop_when).
+//
+// Inputs, per robot ns: /<ns>/pose_gt, /<ns>/robot_state, and /<ns>/map, /<ns>/ises
+// (maps: per_robot) or /map, /ises (maps: shared).
+// Parameters: scene ("" = no coverage estimate), coverage_density_per_m2,
+// coverage_truncation_share, coverage_period_s, path_period_s, maps, stop_when_complete,
+// stall_timeout_s, eval_density_per_m2 (for the final evaluation of the mesh by the caller).
+
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "components/mission/surface_coverage.hpp"
+#include "components/tsdf/map_update.hpp"
+#include "executors/component.hpp"
+#include "executors/params.hpp"
+#include "interfaces/map_msgs.hpp"
+#include "interfaces/nav_msgs.hpp"
+#include "mission/run_files.hpp"
+
+namespace scancrew::components {
+
+class MissionMonitor final : public Component {
+ public:
+  static constexpr std::string_view kDescription =
+      "watches a team mission: paths, coverage over time, ISEs left, completion (run reports)";
+  struct Config {
+    std::string scene;                        // scene YAML for the coverage estimate; "" = none
+    double coverage_density_per_m2 = 50;      // ground-truth points for the estimate
+    double coverage_truncation_share = 0.99;  // surface_coverage.hpp
+    double coverage_period_s = 5.0;
+    double path_period_s = 0.5;
+    std::string maps = "per_robot";  // per_robot | shared (centralized: the station's map)
+    bool stop_when_complete = true;
+    double stall_timeout_s = 60.0;        // 0: never stop for a stall
+    double eval_density_per_m2 = 2000.0;  // the final mesh evaluation (scancrew run --out)
+  };
+  static Config read_config(ParamReader& p);
+
+  struct RobotProgress {
+    uint32_t id = 0;
+    std::string ns;
+    std::string kind;
+    msg::RobotState::Mode mode = msg::RobotState::Mode::kIdle;
+    bool have_state = false;
+    double path_length_m = 0;
+    double coverage = -1;  // < 0: not measured yet (or no scene)
+    uint64_t ises_left = 0;
+    bool have_ises = false;
+    bool complete = false;
+    uint64_t planning_requests = 0;  // entries into kPlanning (replanning requests)
+  };
+
+  MissionMonitor(ComponentContext context, Config config);
+  static std::string_view mode_name(msg::RobotState::Mode mode);
+
+  const Config& config() const { return config_; }
+  // Thread-safe snapshots of what was observed (the executor may run in another thread).
+  std::vector<RobotProgress> robots() const;
+  std::vector<mission::PathSample> paths() const;
+  std::vector<mission::CoverageSample> coverage() const;
+  bool finished() const;
+  std::string stop_reason() const;  // "complete", "stalled" or "" (still running)
+  std::optional<double> completion_time_s() const;
+  // "r1 moving 87 % 120 ISE · r2 planning 85 % 130 ISE" for the progress line.
+  std::string status_line() const;
+
+ private:
+  struct Source {
+    std::shared_ptr<const tsdf::MapSnapshot> map;
+    uint64_t map_version_measured = ~0ull;
+    bool complete = false;
+    uint64_t ises_left = 0;
+    bool have_ises = false;
+  };
+  Result<void, std::string> on_configure() override;
+  void on_activate() override;
+  void on_pose(size_t robot, const msg::Odometry& odom);
+  void on_state(size_t robot, const msg::RobotState& state);
+  void on_ises(size_t source, const msg::IseSet& ises);
+  void on_map(size_t source, const tsdf::MapUpdate& update);
+  void on_path_tick();
+  void on_coverage_tick();
+  void check_finished();
+  double now_s();
+
+  Config config_;
+  std::optional<mission::SurfaceCoverage> truth_;
+  mutable std::mutex mutex_;
+  std::vector<RobotProgress> robots_;
+  std::vector<Source> sources_;  // one per robot (per_robot) or one (shared)
+  std::vector<msg::Odometry> last_pose_;
+  std::vector<bool> have_pose_;
+  std::vector<double> idle_since_s_;  // < 0: not idle
+  std::vector<mission::PathSample> paths_;
+  std::vector<mission::CoverageSample> coverage_;
+  std::string stop_reason_;
+  std::optional<double> completion_time_s_;
+  int64_t start_ns_ = 0;  // the mission's time 0: activation
+};
+
+}  // namespace scancrew::components
