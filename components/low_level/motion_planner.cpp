@@ -13,6 +13,7 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
+#include <algorithm>
 #include <boost/range/iterator_range.hpp>
 #include <chrono>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include <limits>
 #include <mutex>
 #include <optional>
+#include <queue>
 #include <unordered_set>
 #include <utility>
 
@@ -72,6 +74,201 @@ class ReusableLazyPrmStar : public og::LazyPRMstar {
       }
     }
     return n;
+  }
+
+  // --- one-to-many distances (MotionPlanner::roadmap_distances) ---
+
+  // Adds LazyPRM*'s own samples (edges unchecked, as in solve()) until the roadmap holds
+  // `min_vertices` or `ptc` fires; returns how many. Needs setup().
+  size_t grow(size_t min_vertices, const ob::PlannerTerminationCondition& ptc) {
+    size_t added = 0;
+    ob::State* work = si_->allocState();
+    while (boost::num_vertices(g_) < min_vertices && !ptc) {
+      sampler_->sampleUniform(work);
+      addMilestone(si_->cloneState(work));
+      ++added;
+    }
+    si_->freeState(work);
+    return added;
+  }
+
+  struct DistanceResult {
+    std::vector<double> distances_m;
+    size_t checked_edges = 0;  // roadmap edges whose motion was checked
+    size_t removed_edges = 0;
+    size_t removed_vertices = 0;
+  };
+
+  // Dijkstra from `from` over the roadmap, the targets as sinks (null: skipped, +inf).
+  // Links: from → its k nearest vertices, from → each target (the straight motion), each
+  // target's k nearest vertices → it, and the roadmap's edges; k as LazyPRM*'s (k*).
+  // Lengths: `position` distance. A link is checked only when it is about to settle its
+  // head (lazy); a roadmap vertex is checked when it is settled. Valid roadmap edges and
+  // vertices are marked VALIDITY_TRUE; invalid ones deleted afterwards, as LazyPRM does.
+  template <class Position>
+  DistanceResult distances(const ob::State* from, const std::vector<const ob::State*>& targets,
+                           const Position& position) {
+    const size_t k = connection_count();
+    // the nearest vertices first: nearest() briefly adds a query vertex to the graph
+    const std::vector<Vertex> from_near = nearest(from, k);
+    std::vector<std::vector<Vertex>> target_near(targets.size());
+    for (size_t t = 0; t < targets.size(); ++t)
+      if (targets[t] != nullptr) target_near[t] = nearest(targets[t], k);
+
+    // number the vertices 0..V-1 (constructSolution does the same); targets are V + t
+    std::vector<Vertex> verts;
+    verts.reserve(boost::num_vertices(g_));
+    for (const Vertex v : boost::make_iterator_range(boost::vertices(g_))) {
+      indexProperty_[v] = verts.size();
+      verts.push_back(v);
+    }
+    const size_t n = verts.size();
+    std::vector<Eigen::Vector3d> pos;
+    pos.reserve(n + targets.size());
+    for (const Vertex v : verts) pos.push_back(position(stateProperty_[v]));
+    for (const ob::State* t : targets)
+      pos.push_back(t != nullptr ? position(t) : Eigen::Vector3d::Zero());
+    const Eigen::Vector3d p_from = position(from);
+    std::vector<std::vector<uint32_t>> attached(n);  // vertex -> targets linked to it
+    for (size_t t = 0; t < targets.size(); ++t)
+      for (const Vertex v : target_near[t])
+        attached[indexProperty_[v]].push_back(static_cast<uint32_t>(t));
+
+    enum class Link : uint8_t { kFromVertex, kEdge, kFromTarget, kVertexTarget };
+    struct Entry {
+      double d;
+      size_t node;  // < n: a vertex, else a target
+      size_t via;   // the vertex the link leaves (kEdge, kVertexTarget)
+      Link link;
+      Edge edge;  // kEdge
+      bool operator>(const Entry& o) const { return d > o.d; }
+    };
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+    std::vector<uint8_t> done(n + targets.size(), 0);
+    DistanceResult r;
+    r.distances_m.assign(targets.size(), std::numeric_limits<double>::infinity());
+    size_t open = 0;
+    for (size_t t = 0; t < targets.size(); ++t) {
+      if (targets[t] == nullptr) {
+        done[n + t] = 1;
+        continue;
+      }
+      ++open;
+      queue.push({(pos[n + t] - p_from).norm(), n + t, 0, Link::kFromTarget, Edge()});
+    }
+    for (const Vertex v : from_near) {
+      const size_t i = indexProperty_[v];
+      queue.push({(pos[i] - p_from).norm(), i, 0, Link::kFromVertex, Edge()});
+    }
+
+    std::vector<Vertex> bad_vertices;
+    std::vector<std::pair<Vertex, Vertex>> bad_edges;
+    while (!queue.empty() && open > 0) {
+      const Entry e = queue.top();
+      queue.pop();
+      if (done[e.node] != 0) continue;
+      if (e.node >= n) {  // a target: its link's motion decides
+        const size_t t = e.node - n;
+        const ob::State* tail = e.link == Link::kFromTarget ? from : stateProperty_[verts[e.via]];
+        if (!si_->checkMotion(tail, targets[t])) continue;
+        done[e.node] = 1;
+        r.distances_m[t] = e.d;
+        --open;
+        continue;
+      }
+      const Vertex v = verts[e.node];
+      const ob::State* state = stateProperty_[v];
+      unsigned int& vertex_flags = vertexValidityProperty_[v];
+      if ((vertex_flags & VALIDITY_TRUE) == 0) {
+        if (!si_->isValid(state)) {
+          done[e.node] = 1;  // never settled: deleted below
+          bad_vertices.push_back(v);
+          continue;
+        }
+        vertex_flags |= VALIDITY_TRUE;
+      }
+      if (e.link == Link::kFromVertex) {
+        if (!si_->checkMotion(from, state)) continue;
+      } else {
+        unsigned int& edge_flags = edgeValidityProperty_[e.edge];
+        if ((edge_flags & VALIDITY_TRUE) == 0) {
+          ++r.checked_edges;
+          if (!si_->checkMotion(stateProperty_[verts[e.via]], state)) {
+            bad_edges.emplace_back(verts[e.via], v);
+            continue;
+          }
+          edge_flags |= VALIDITY_TRUE;
+        }
+      }
+      done[e.node] = 1;
+      for (const Edge out : boost::make_iterator_range(boost::out_edges(v, g_))) {
+        const size_t j = indexProperty_[boost::target(out, g_)];
+        if (done[j] == 0)
+          queue.push({e.d + (pos[j] - pos[e.node]).norm(), j, e.node, Link::kEdge, out});
+      }
+      for (const uint32_t t : attached[e.node])
+        if (done[n + t] == 0)
+          queue.push({e.d + (pos[n + t] - pos[e.node]).norm(), n + t, e.node, Link::kVertexTarget,
+                      Edge()});
+    }
+
+    // delete what was found invalid (edges first: a deleted vertex takes its edges along)
+    for (const auto& [a, b] : bad_edges) boost::remove_edge(a, b, g_);
+    for (const Vertex v : bad_vertices) {
+      nn_->remove(v);
+      si_->freeState(stateProperty_[v]);
+      boost::clear_vertex(v, g_);
+      boost::remove_vertex(v, g_);
+    }
+    r.removed_edges = bad_edges.size();
+    r.removed_vertices = bad_vertices.size();
+    if (!bad_edges.empty() || !bad_vertices.empty()) recompute_components();
+    return r;
+  }
+
+ private:
+  // LazyPRM*'s number of neighbours for a new milestone (OMPL's KStarStrategy).
+  size_t connection_count() const {
+    const double n = std::max(1.0, static_cast<double>(boost::num_vertices(g_)));
+    const double dim = std::max(1u, si_->getStateDimension());
+    const double k_prm = std::exp(1.0) * (1.0 + 1.0 / dim);
+    return static_cast<size_t>(std::ceil(k_prm * std::log(n)));
+  }
+
+  // The k roadmap vertices nearest to a state not in the roadmap (the nearest-neighbour
+  // structure compares vertices, so a query vertex is added for the call).
+  std::vector<Vertex> nearest(const ob::State* s, size_t k) {
+    std::vector<Vertex> out;
+    if (nn_->size() == 0 || k == 0) return out;
+    const Vertex q = boost::add_vertex(g_);
+    stateProperty_[q] = si_->cloneState(s);
+    nn_->nearestK(q, k, out);
+    si_->freeState(stateProperty_[q]);
+    boost::remove_vertex(q, g_);
+    return out;
+  }
+
+  // The connected components LazyPRM keeps for its start-goal test, computed afresh after
+  // deletions (LazyPRM splits them per deletion; a search may delete many).
+  void recompute_components() {
+    componentSize_.clear();
+    std::vector<Vertex> stack;
+    std::unordered_set<Vertex> seen;
+    for (const Vertex v : boost::make_iterator_range(boost::vertices(g_))) {
+      if (!seen.insert(v).second) continue;
+      const unsigned long component = componentCount_++;
+      unsigned long size = 0;
+      stack.push_back(v);
+      while (!stack.empty()) {
+        const Vertex u = stack.back();
+        stack.pop_back();
+        vertexComponentProperty_[u] = component;
+        ++size;
+        for (const Vertex w : boost::make_iterator_range(boost::adjacent_vertices(u, g_)))
+          if (seen.insert(w).second) stack.push_back(w);
+      }
+      componentSize_[component] = size;
+    }
   }
 };
 
@@ -341,7 +538,99 @@ struct MotionPlanner::Impl {
   }
 
   PlanResult plan(const PlanRequest& q);
+  RoadmapDistances roadmap_distances(const msg::Waypoint& from,
+                                     const std::vector<msg::Waypoint>& targets);
+
+  // Whether `goal` could be planned to (plan()'s goal tests, without messages).
+  bool valid_goal(const msg::Waypoint& goal) const {
+    if (!finite(goal)) return false;
+    if (!ground() && (goal.position.z < config.multirotor_min_altitude_m ||
+                      goal.position.z > config.multirotor_max_altitude_m))
+      return false;
+    if (config.unknown_is_occupied && map.state_at(center_of(goal)) == tsdf::VoxelState::kUnknown)
+      return false;
+    return !map.collides(pose_of(goal));
+  }
+
+  // LazyPRM* takes its optimization objective (the edges' weights) at setup(), which
+  // needs a problem definition: solve() does it on the first plan(); roadmap_distances()
+  // may come first.
+  void ensure_setup(const ob::State* s) {
+    if (planner->isSetup()) return;
+    auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+    pdef->addStartState(s);
+    pdef->setGoalState(s, config.goal_tolerance_m);
+    pdef->setOptimizationObjective(objective);
+    planner->setProblemDefinition(pdef);
+    planner->setup();
+  }
 };
+
+RoadmapDistances MotionPlanner::Impl::roadmap_distances(const msg::Waypoint& from,
+                                                        const std::vector<msg::Waypoint>& targets) {
+  const auto t0 = Clock::now();
+  const size_t checks0 = map.checks();
+  RoadmapDistances r;
+  char buf[160];
+  if (!finite(from)) {
+    r.message = "the pose to measure from is not finite";
+    return r;
+  }
+  if (!map.has_map()) {
+    r.status = PlanStatus::kMapStale;
+    r.message = "no map yet";
+    return r;
+  }
+  if (map.collides(pose_of(from))) {
+    r.status = PlanStatus::kStartInCollision;
+    std::snprintf(buf, sizeof buf, "body at (%.2f, %.2f, %.2f) overlaps %s", from.position.x,
+                  from.position.y, from.position.z,
+                  config.unknown_is_occupied ? "occupied or unknown space" : "occupied space");
+    r.message = buf;
+    return r;
+  }
+  // the targets that plan() would accept as goals; the rest stay +inf
+  std::vector<bool> valid(targets.size(), false);
+  Eigen::AlignedBox3d ends(center_of(from));
+  for (size_t t = 0; t < targets.size(); ++t) {
+    valid[t] = valid_goal(targets[t]);
+    if (valid[t]) ends.extend(center_of(targets[t]));
+  }
+  grow_bounds(ends);
+  ob::ScopedState<> start(space);
+  set_state(start.get(), from);
+  std::vector<ob::ScopedState<>> goals;
+  goals.reserve(targets.size());
+  std::vector<const ob::State*> goal_states(targets.size(), nullptr);
+  for (size_t t = 0; t < targets.size(); ++t) {
+    if (!valid[t]) continue;
+    goals.emplace_back(space);
+    set_state(goals.back().get(), targets[t]);
+    goal_states[t] = goals.back().get();
+  }
+
+  ensure_setup(start.get());
+  planner->clearQuery();  // the last plan()'s start and goal vertices may be deleted below
+  if (planner->vertex_count() > static_cast<size_t>(config.roadmap_max_vertices)) planner->clear();
+  const auto t_grow = Clock::now();
+  r.grown_vertices =
+      planner->grow(static_cast<size_t>(std::min(config.roadmap_distance_min_vertices,
+                                                 config.roadmap_max_vertices)),
+                    ob::timedPlannerTerminationCondition(config.roadmap_distance_grow_time_s));
+  r.grow_ms = ms_since(t_grow);
+  auto found = planner->distances(start.get(), goal_states, [this](const ob::State* s) {
+    return Eigen::Vector3d(pose_of(s).translation());
+  });
+  r.status = PlanStatus::kOk;
+  r.distances_m = std::move(found.distances_m);
+  r.checked_edges = found.checked_edges;
+  r.removed_edges = found.removed_edges;
+  r.removed_vertices = found.removed_vertices;
+  r.roadmap_vertices = planner->vertex_count();
+  r.collision_checks = map.checks() - checks0;
+  r.ms = ms_since(t0);
+  return r;
+}
 
 PlanResult MotionPlanner::Impl::plan(const PlanRequest& q) {
   const auto t0 = Clock::now();
@@ -497,6 +786,11 @@ MapUpdateStats MotionPlanner::update_map(std::shared_ptr<const tsdf::MapSnapshot
 
 PlanResult MotionPlanner::plan(const PlanRequest& request) {
   return impl_->plan(request);
+}
+
+RoadmapDistances MotionPlanner::roadmap_distances(const msg::Waypoint& from,
+                                                  const std::vector<msg::Waypoint>& targets) {
+  return impl_->roadmap_distances(from, targets);
 }
 
 bool MotionPlanner::is_free(const msg::Waypoint& pose) const {

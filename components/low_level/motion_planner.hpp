@@ -16,7 +16,14 @@
 //     (LazyPRM trusts a vertex or edge it once found valid for ever, and deletes the
 //     invalid ones); the roadmap is dropped when it grows past roadmap_max_vertices;
 //   - the path is shortcut (OMPL's PathSimplifier: vertex reduction, then shortcutting)
-//     and checked again before it is returned.
+//     and checked again before it is returned;
+//   - roadmap_distances(): one-to-many travel distances over the same roadmap (the
+//     high-level planner's d(τ_kl), thesis eq. 2.3): one Dijkstra from `from`, the
+//     straight motions from `from` and into each target and the links to their nearest
+//     roadmap vertices checked lazily (an edge only when it would settle a vertex or a
+//     target; roadmap edges' and vertices' validity cached or, when invalid, deleted as
+//     LazyPRM does); a sparse roadmap is grown first (roadmap_distance_min_vertices,
+//     roadmap_distance_grow_time_s).
 //
 // Bad input gives a status, never an exception or a loop without end: NaN/inf poses
 // (kBadInput), no map or a map older than the pose by more than max_map_age_s
@@ -80,6 +87,28 @@ struct PlanResult {
   PlanStats stats;
 };
 
+// Travel distances from one pose to many (MotionPlanner::roadmap_distances).
+struct RoadmapDistances {
+  // kOk, or why `from` has none: kBadInput (not finite), kMapStale (no map yet),
+  // kStartInCollision (its body overlaps an obstacle)
+  PlanStatus status = PlanStatus::kBadInput;
+  // per target: the length (m; x, y for a ground robot, x, y, z for a multirotor) of the
+  // shortest path from `from` over the roadmap, or the straight motion where it is free;
+  // +inf where the roadmap does not reach it, or the target is not a valid goal (not
+  // finite, outside a multirotor's altitudes, unknown with unknown_is_occupied, body in
+  // collision). Empty unless kOk.
+  std::vector<double> distances_m;
+  std::string message;  // why, unless kOk
+  double ms = 0;
+  double grow_ms = 0;           // of which growing a sparse roadmap
+  size_t grown_vertices = 0;    // added to a sparse roadmap first
+  size_t roadmap_vertices = 0;  // after the query
+  size_t collision_checks = 0;  // body-against-map tests in this query
+  size_t checked_edges = 0;     // roadmap edges checked (then cached or deleted)
+  size_t removed_edges = 0;     // found invalid (and deleted, as LazyPRM does)
+  size_t removed_vertices = 0;
+};
+
 struct MapUpdateStats {
   size_t changed_blocks = 0;
   bool rebuilt = false;
@@ -100,6 +129,12 @@ class MotionPlanner {
   MapUpdateStats update_map(std::shared_ptr<const tsdf::MapSnapshot> map, int64_t stamp_ns);
 
   PlanResult plan(const PlanRequest& request);
+
+  // The travel distance from `from` to each target over the roadmap (one Dijkstra for all
+  // of them; see RoadmapDistances). Yaws matter for a ground robot's ellipse: the motions
+  // leave `from` and reach each target in their yaw. No map-age check (no pose stamp).
+  RoadmapDistances roadmap_distances(const msg::Waypoint& from,
+                                     const std::vector<msg::Waypoint>& targets);
 
   // Whether the body at this pose is clear of the current map's obstacles (false without a
   // map).

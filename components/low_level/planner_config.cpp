@@ -23,6 +23,9 @@ std::string PlannerConfig::validate() const {
   if (!std::isfinite(path_cost_factor) || (path_cost_factor != 0 && path_cost_factor < 1))
     return "path_cost_factor: 0 (first path) or >= 1";
   if (roadmap_max_vertices < 10) return "roadmap_max_vertices: must be >= 10";
+  if (roadmap_distance_min_vertices < 0) return "roadmap_distance_min_vertices: must be >= 0";
+  if (!std::isfinite(roadmap_distance_grow_time_s) || roadmap_distance_grow_time_s < 0)
+    return "roadmap_distance_grow_time_s: must be >= 0";
   if (!positive(goal_tolerance_m)) return "goal_tolerance_m: must be > 0";
   return {};
 }
@@ -57,6 +60,8 @@ PlannerConfig read_planner_config(ParamReader& p) {
   p.optional("collision_check_step_m", c.collision_check_step_m, {1e-3, 10});
   p.optional("path_cost_factor", c.path_cost_factor, {0, 1000});
   p.optional("roadmap_max_vertices", c.roadmap_max_vertices, {10, 1e8});
+  p.optional("roadmap_distance_min_vertices", c.roadmap_distance_min_vertices, {0, 1e8});
+  p.optional("roadmap_distance_grow_time_s", c.roadmap_distance_grow_time_s, {0, 3600});
   p.optional("goal_tolerance_m", c.goal_tolerance_m, {1e-6, 10});
   p.optional("planner_seed", c.seed);
   if (const std::string e = c.validate(); !e.empty()) p.report(e.substr(0, e.find(':')), e);

@@ -52,6 +52,12 @@ struct PlannerConfig {
   double path_cost_factor = 0.0;
   // the roadmap is dropped and rebuilt when it holds more vertices than this
   int64_t roadmap_max_vertices = 20000;
+  // roadmap_distances() (the high-level planner's d(τ_kl)): before the search, a roadmap
+  // with fewer vertices than this is grown (LazyPRM*'s samples, edges unchecked) for at
+  // most roadmap_distance_grow_time_s (capped at roadmap_max_vertices; 0: never grown,
+  // only plan() grows it)
+  int64_t roadmap_distance_min_vertices = 500;
+  double roadmap_distance_grow_time_s = 0.25;
   double goal_tolerance_m = 1e-3;  // the state-space distance at which the goal is reached
   // OMPL's random seed (process wide, taken once, before the first planner); 0: OMPL's own
   uint64_t seed = 0;
@@ -67,7 +73,8 @@ RobotBody body_of(const PlannerConfig& config);
 // multirotor_body_radius_m, body_margin_m, unknown_is_occupied, max_map_age_s,
 // bounds_margin_m, multirotor_min_altitude_m, multirotor_max_altitude_m,
 // planner_time_limit_s, collision_check_step_m, path_cost_factor, roadmap_max_vertices,
-// goal_tolerance_m, planner_seed); problems are collected in the reader.
+// roadmap_distance_min_vertices, roadmap_distance_grow_time_s, goal_tolerance_m,
+// planner_seed); problems are collected in the reader.
 PlannerConfig read_planner_config(ParamReader& p);
 
 }  // namespace scancrew::low_level

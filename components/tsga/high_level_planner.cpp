@@ -1,11 +1,16 @@
 #include "components/tsga/high_level_planner.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
+#include "components/low_level/motion_planner.hpp"
+#include "components/tsdf/map_update.hpp"
 #include "executors/log.hpp"
 #include "executors/registry.hpp"
+#include "interfaces/eigen_conversions.hpp"
 
 namespace scancrew::tsga {
 
@@ -32,6 +37,23 @@ double ms_since(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
+double yaw_of(const msg::Quat& q) {
+  const Eigen::Matrix3d r = msg::to_eigen(q).toRotationMatrix();
+  return std::atan2(r(1, 0), r(0, 0));
+}
+
+// One plan's roadmap distances: every viewpoint is a target (the planner enters a cluster
+// at one of them), each starting point gets one roadmap_distances() row. Points are
+// matched exactly: the planner passes on the positions it was given.
+struct RoadmapMemo {
+  using Key = std::array<double, 3>;
+  static Key key(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+  std::vector<msg::Waypoint> targets;
+  std::map<Key, size_t> target_index;
+  std::map<Key, double> yaw;                // of the viewpoints and the robots
+  std::map<Key, std::vector<double>> rows;  // empty: the straight line from there
+};
+
 }  // namespace
 
 HighLevelPlanner::Config HighLevelPlanner::read_config(ParamReader& p) {
@@ -45,17 +67,16 @@ HighLevelPlanner::Config HighLevelPlanner::read_config(ParamReader& p) {
   p.optional("final_iterations", c.options.final_iterations, {0, 1000000});
   p.optional("seed", c.options.seed);
   p.optional("min_replan_period_s", c.min_replan_period_s, {0, 1e6});
+  c.roadmap = low_level::read_planner_config(p);
   return c;
 }
 
 HighLevelPlanner::HighLevelPlanner(ComponentContext context, Config config)
     : Component(std::move(context)), config_(std::move(config)) {}
 
+HighLevelPlanner::~HighLevelPlanner() = default;
+
 Result<void, std::string> HighLevelPlanner::on_configure() {
-  if (config_.inter_cluster_distance == "roadmap")
-    return make_unexpected(
-        "inter_cluster_distance: roadmap is not implemented yet (the low-level planner's "
-        "roadmap is not shared with the high-level planner); use euclidean");
   per_robot_ = robot_id() != 0;
   if (config_.algorithm == "dist_tsga" && !per_robot_)
     return make_unexpected("algorithm dist_tsga runs on every robot: set per_robot: true");
@@ -64,6 +85,28 @@ Result<void, std::string> HighLevelPlanner::on_configure() {
         "algorithm tsga is the centralized planner: set per_robot: false (dist_tsga is the "
         "per-robot one)");
   if (team().empty()) return make_unexpected("the launch file has no robots to plan for");
+  if (config_.inter_cluster_distance == "roadmap") {
+    const std::string& kind = team().front().kind;
+    for (const TeamMember& t : team())
+      if (t.kind != kind)
+        return make_unexpected(
+            "inter_cluster_distance: roadmap needs a team of one robot type: the travel "
+            "distance (PlannerOptions::travel_distance) does not know which robot an arc is "
+            "for, and a " +
+            kind + " robot's roadmap is not a " + t.kind + "'s (robot " + std::to_string(t.id) +
+            "); use euclidean for a mixed team");
+    low_level::PlannerConfig pc = config_.roadmap;
+    pc.robot_kind =
+        kind == "multirotor" ? low_level::RobotKind::kMultirotor : low_level::RobotKind::kGround;
+    auto planner = low_level::MotionPlanner::create(pc);
+    if (!planner) return make_unexpected(planner.error());
+    roadmap_ = std::make_unique<low_level::MotionPlanner>(std::move(planner).value());
+    create_subscription<tsdf::MapUpdate>("map", {.depth = 1}, [this](Sample<tsdf::MapUpdate>&& s) {
+      if (s->map == nullptr) return;
+      roadmap_->update_map(s->map, s->header.stamp_ns);
+      have_map_ = true;
+    });
+  }
   for (size_t i = 0; i < team().size(); ++i) {
     const TeamMember& t = team()[i];
     Member m;
@@ -71,15 +114,18 @@ Result<void, std::string> HighLevelPlanner::on_configure() {
     m.type_bit = t.kind == "multirotor" ? kMultirotorBit : kGroundBit;
     m.penalties = t.kind == "multirotor" ? config_.multirotor : config_.ground;
     m.position = {t.start_x_m, t.start_y_m, t.start_z_m};
+    m.yaw_rad = t.start_yaw_rad;
     members_.push_back(m);
     const std::string ns = "/" + t.ns + "/";
     create_subscription<msg::Odometry>(
         ns + (config_.pose_source == "vio" ? "odom" : "pose_gt"), {.depth = 1},
         [this, i](Sample<msg::Odometry>&& s) {
           const msg::Vec3& p = s->T_world_body.position;
-          if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+          if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
             members_[i].position = vec(p);
-          else
+            const double yaw = yaw_of(s->T_world_body.orientation);
+            if (std::isfinite(yaw)) members_[i].yaw_rad = yaw;
+          } else
             fail_once("pose", "a non-finite pose of robot " + std::to_string(members_[i].id) +
                                   " (ignored; its last position stands)");
         });
@@ -120,8 +166,11 @@ void HighLevelPlanner::on_robot_state(size_t member, const msg::RobotState& stat
   const msg::RobotState::Mode before = members_[member].mode;
   members_[member].mode = state.mode;
   const msg::Vec3& p = state.T_world_body.position;
-  if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+  if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
     members_[member].position = vec(p);
+    const double yaw = yaw_of(state.T_world_body.orientation);
+    if (std::isfinite(yaw)) members_[member].yaw_rad = yaw;
+  }
   if (!clusters_ || state.mode == before) return;
   // only the robots this instance plans for: all (centralized) or its own (per robot)
   if (per_robot_ && members_[member].id != robot_id()) return;
@@ -145,23 +194,71 @@ std::vector<PlanRobot> HighLevelPlanner::plan_robots() const {
   return robots;
 }
 
+PlannerOptions HighLevelPlanner::plan_options() {
+  PlannerOptions options = config_.options;
+  if (!roadmap_) return options;
+  if (!have_map_) {
+    warn_once("roadmap_no_map",
+              "inter_cluster_distance: roadmap: no map on `map` yet; d(τ_kl) is the straight "
+              "line until the first one");
+    return options;
+  }
+  auto memo = std::make_shared<RoadmapMemo>();
+  for (const msg::ViewpointCluster& c : clusters_->clusters)
+    for (const msg::Viewpoint& v : c.viewpoints) {
+      const RoadmapMemo::Key k = RoadmapMemo::key(vec(v.pose.position));
+      memo->yaw.emplace(k, v.pose.yaw_rad);
+      if (memo->target_index.emplace(k, memo->targets.size()).second)
+        memo->targets.push_back(v.pose);
+    }
+  for (const Member& m : members_) memo->yaw[RoadmapMemo::key(m.position)] = m.yaw_rad;
+  options.travel_distance = [this, memo](const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
+    auto row = memo->rows.find(RoadmapMemo::key(from));
+    if (row == memo->rows.end()) {
+      msg::Waypoint w;
+      w.position = vec(from);
+      const auto yaw = memo->yaw.find(RoadmapMemo::key(from));
+      w.yaw_rad = yaw != memo->yaw.end() ? yaw->second : 0.0;
+      low_level::RoadmapDistances d = roadmap_->roadmap_distances(w, memo->targets);
+      ++stats_.roadmap_queries;
+      stats_.roadmap_ms += d.ms;
+      if (d.status != low_level::PlanStatus::kOk) {
+        ++stats_.straight_fallbacks;
+        char where[96];
+        std::snprintf(where, sizeof where, "(%.2f, %.2f, %.2f)", from.x(), from.y(), from.z());
+        warn_once("roadmap_" + std::string(low_level::to_string(d.status)),
+                  "inter_cluster_distance: roadmap: no roadmap distances from " +
+                      std::string(where) + ": " + d.message +
+                      "; the straight line is used from such points");
+        d.distances_m.clear();
+      }
+      row = memo->rows.emplace(RoadmapMemo::key(from), std::move(d.distances_m)).first;
+    }
+    const auto target = memo->target_index.find(RoadmapMemo::key(to));
+    if (row->second.empty() || target == memo->target_index.end()) return (to - from).norm();
+    return row->second[target->second];
+  };
+  return options;
+}
+
 void HighLevelPlanner::plan(int64_t stamp_ns, std::optional<size_t> idle) {
   if (!clusters_) return;
   const auto start = std::chrono::steady_clock::now();
   const std::vector<PlanRobot> robots = plan_robots();
+  const PlannerOptions options = plan_options();
   TeamPlan next = last_;
   if (idle) {
     std::vector<uint32_t> held;
     for (size_t k = 0; k < last_.robots.size(); ++k)
       if (k != *idle)
         held.insert(held.end(), last_.robots[k].clusters.begin(), last_.robots[k].clusters.end());
-    auto mine = plan_for_idle(robots[*idle], plan_clusters_, held, config_.options);
+    auto mine = plan_for_idle(robots[*idle], plan_clusters_, held, options);
     if (!mine) return fail_once("clusters", mine.error());
     next.robots[*idle] = std::move(mine).value();
     ++stats_.reallocations;
   } else {
-    auto team = config_.algorithm == "nnb" ? plan_nnb(robots, plan_clusters_, config_.options)
-                                           : plan_tsga(robots, plan_clusters_, config_.options);
+    auto team = config_.algorithm == "nnb" ? plan_nnb(robots, plan_clusters_, options)
+                                           : plan_tsga(robots, plan_clusters_, options);
     if (!team) return fail_once("clusters", team.error());
     next = std::move(team).value();
   }
@@ -220,6 +317,12 @@ void HighLevelPlanner::fail_once(const std::string& kind, const std::string& mes
                      qualified_name().c_str(), message.c_str());
 }
 
+void HighLevelPlanner::warn_once(const std::string& kind, const std::string& message) {
+  if (failures_logged_[kind]) return;
+  failures_logged_[kind] = true;
+  SCANCREW_LOG_WARN("%s: %s (logged once)", qualified_name().c_str(), message.c_str());
+}
+
 void HighLevelPlanner::on_deactivate() {
   SCANCREW_LOG_INFO(
       "%s: %s: %llu plans (%.1f ms mean, %.1f max), %llu reallocations to idle robots, %llu "
@@ -228,6 +331,14 @@ void HighLevelPlanner::on_deactivate() {
       static_cast<unsigned long long>(stats_.plans), stats_.mean_ms, stats_.max_ms,
       static_cast<unsigned long long>(stats_.reallocations),
       static_cast<unsigned long long>(stats_.skipped));
+  if (roadmap_)
+    SCANCREW_LOG_INFO(
+        "%s: roadmap distances: %llu queries (%.1f ms mean), %llu starting points measured by "
+        "the straight line",
+        qualified_name().c_str(), static_cast<unsigned long long>(stats_.roadmap_queries),
+        stats_.roadmap_queries > 0 ? stats_.roadmap_ms / static_cast<double>(stats_.roadmap_queries)
+                                   : 0.0,
+        static_cast<unsigned long long>(stats_.straight_fallbacks));
 }
 
 SCANCREW_REGISTER_COMPONENT(HighLevelPlanner, "high_level_planner")

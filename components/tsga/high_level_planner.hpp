@@ -25,25 +25,46 @@
 // min_replan_period_s (sim time, from the message stamps) bounds how often cluster updates
 // are planned; requests and idle robots are served at once.
 //
+// d(τ_kl), the travel from a cluster's exit (or the robot) to the next cluster's entry in
+// f of eq. 2.3 (inter_cluster_distance):
+//   euclidean  the straight line;
+//   roadmap    the low-level planner's path length, as in the thesis: a MotionPlanner of
+//              its own (LazyPRM* roadmap, components/low_level/motion_planner.hpp) follows
+//              the `map` topic (tsdf::MapUpdate; remap it to the robot's or the team's map)
+//              and, per plan, one roadmap_distances() call per distinct starting point gives
+//              its distances to every viewpoint (memoised for the plan's maxATSP solves;
+//              unreachable: +inf, the arc's f is 0). Until the first map, and from a point
+//              whose body collides, the straight line (logged once). The planner's keys are
+//              the low-level planner's (read_planner_config: one YAML block serves both);
+//              its robot type is the team's. The hook does not know which robot an arc is
+//              for, so a team that mixes ground robots and multirotors is refused at
+//              configuration.
+//
 // Parameters: algorithm, inter_cluster_distance (euclidean | roadmap), pose_source,
 // `<type>_lambda_tc_per_m` and `<type>_lambda_ic_per_m` for ground and multirotor,
-// insertion_iterations, final_iterations, seed, min_replan_period_s. roadmap (the low-level
-// planner's roadmap distance as d(τ_kl)) is not available yet: choosing it fails at
-// configuration, saying so. Bad clusters (NaN gain, duplicate ids) or poses: the update is
-// skipped with an error logged once per kind; the last plan stands.
+// insertion_iterations, final_iterations, seed, min_replan_period_s, and with roadmap the
+// low-level planner's keys (docs/low_level_planner.md). Bad clusters (NaN gain, duplicate
+// ids) or poses: the update is skipped with an error logged once per kind; the last plan
+// stands.
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "components/low_level/planner_config.hpp"
 #include "components/tsga/tsga_planner.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
 #include "interfaces/map_msgs.hpp"
 #include "interfaces/nav_msgs.hpp"
+
+namespace scancrew::low_level {
+class MotionPlanner;
+}  // namespace scancrew::low_level
 
 namespace scancrew::tsga {
 
@@ -64,16 +85,24 @@ class HighLevelPlanner final : public Component {
     Penalties multirotor{.lambda_tc_per_m = 0.3, .lambda_ic_per_m = 0.03};
     PlannerOptions options;
     double min_replan_period_s = 0;
+    // inter_cluster_distance: roadmap: the low-level planner's keys (robot_type ignored:
+    // the team's type decides)
+    low_level::PlannerConfig roadmap;
   };
   static Config read_config(ParamReader& p);
 
   HighLevelPlanner(ComponentContext context, Config config);
+  ~HighLevelPlanner() override;
 
   struct Stats {
     uint64_t plans = 0;          // published
     uint64_t reallocations = 0;  // to idle robots
     uint64_t skipped = 0;        // updates refused (bad input) or throttled
     double mean_ms = 0, max_ms = 0;
+    // inter_cluster_distance: roadmap
+    uint64_t roadmap_queries = 0;     // roadmap_distances() calls (one per starting point)
+    uint64_t straight_fallbacks = 0;  // starting points measured by the straight line
+    double roadmap_ms = 0;            // in roadmap_distances(), all plans
   };
   const Stats& stats() const { return stats_; }
 
@@ -83,6 +112,7 @@ class HighLevelPlanner final : public Component {
     uint32_t type_bit = 1;
     Penalties penalties;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    double yaw_rad = 0;
     msg::RobotState::Mode mode = msg::RobotState::Mode::kIdle;
   };
 
@@ -93,8 +123,12 @@ class HighLevelPlanner final : public Component {
   // Plans from the latest clusters and publishes; `idle`: reallocate to that member only.
   void plan(int64_t stamp_ns, std::optional<size_t> idle);
   std::vector<PlanRobot> plan_robots() const;
+  // The configured options, with the memoised roadmap distance when it is chosen and a map
+  // has come.
+  PlannerOptions plan_options();
   void publish(const TeamPlan& plan, int64_t stamp_ns);
   void fail_once(const std::string& kind, const std::string& message);
+  void warn_once(const std::string& kind, const std::string& message);
 
   Config config_;
   bool per_robot_ = false;
@@ -109,6 +143,8 @@ class HighLevelPlanner final : public Component {
   std::map<std::string, bool> failures_logged_;
   Stats stats_;
   double ms_sum_ = 0;
+  std::unique_ptr<low_level::MotionPlanner> roadmap_;  // inter_cluster_distance: roadmap
+  bool have_map_ = false;
 };
 
 }  // namespace scancrew::tsga
