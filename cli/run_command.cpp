@@ -79,8 +79,11 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
     const auto* mapper = dynamic_cast<const tsdf::TsdfMapper*>(c.get());
     if (mapper == nullptr) continue;
     MeshScore s;
-    for (const auto& r : monitor.robots())
-      if (r.id == mapper->robot_id()) s.robot_ns = r.ns;
+    // a centralized mapper is the ground station's; the others are a robot's
+    s.robot_ns = "station";
+    if (mapper->config().mode != "centralized")
+      for (const auto& r : monitor.robots())
+        if (r.id == mapper->robot_id()) s.robot_ns = r.ns;
     s.mesh_path = mapper->config().mesh_path;
     s.octomap_path = mapper->config().octomap_path;
     s.voxel_m = mapper->config().tsdf.voxel_m;
@@ -220,7 +223,10 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
     robots.push_back(std::move(j));
   }
   m["total_path_length_m"] = total_length;
-  m["data_exchanged_bytes"] = bytes;
+  // distributed: the completed patches the robots sent (their wire size). Centralized: the
+  // depth images and poses to the station, which an in-process run does not serialise, so
+  // not measured here (null), rather than a 0 that would read as "nothing sent".
+  m["data_exchanged_bytes"] = architecture == "centralized" ? Json(nullptr) : Json(bytes);
   m["collisions"] = robot_robot + robot_scene;
   m["contacts"] = {{"robot_robot", robot_robot}, {"robot_scene", robot_scene}};
   m["replans"] = replans;
