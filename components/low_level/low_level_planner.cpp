@@ -282,6 +282,7 @@ void LowLevelPlanner::plan_to_goal() {
       path_sent_ = true;
       stopped_ = false;
       consecutive_failures_ = 0;
+      consecutive_backoffs_ = 0;
       mode_ = Mode::kMoving;
       send_maneuver(msg::Maneuver::Kind::kResume, {}, 0);
       return;
@@ -298,7 +299,10 @@ void LowLevelPlanner::plan_to_goal() {
     log_once("start", r.message +
                           " (backing off to the nearest free pose; further such "
                           "cases are counted)");
-    if (auto escape = escape_pose(request.start)) {
+    // each back-off in a row looks one ring further: an escape pose within the tracker's
+    // tolerance would be "reached" without a move, and the robot would back off forever
+    ++consecutive_backoffs_;
+    if (auto escape = escape_pose(request.start, consecutive_backoffs_)) {
       if (auto loan = path_pub_.loan()) {
         (*loan)->plan_id = ++local_path_id_;
         (*loan)->waypoints = {request.start, *escape};
@@ -312,6 +316,7 @@ void LowLevelPlanner::plan_to_goal() {
       send_maneuver(msg::Maneuver::Kind::kResume, {}, 0);
       return;
     }
+    consecutive_backoffs_ = 0;
     request_replan(ReplanReason::kInfeasible, 0, r.message + ", no free pose near");
     return;
   }
@@ -325,11 +330,12 @@ void LowLevelPlanner::plan_to_goal() {
                    std::to_string(consecutive_failures_) + " viewpoints without a path");
 }
 
-std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& start) const {
+std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& start,
+                                                          int first_ring) const {
   constexpr int kDirections = 16;
   const bool multirotor = checks_.obstacle.kind == RobotKind::kMultirotor;
-  for (double r = config_.backoff_step_m; r <= config_.backoff_max_m + 1e-9;
-       r += config_.backoff_step_m) {
+  for (double r = config_.backoff_step_m * std::max(1, first_ring);
+       r <= config_.backoff_max_m + 1e-9; r += config_.backoff_step_m) {
     if (multirotor) {
       msg::Waypoint up = start;
       up.position.z += r;

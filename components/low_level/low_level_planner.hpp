@@ -126,7 +126,9 @@ class LowLevelPlanner final : public Component {
   bool follow_checks();  // redundancy, utility: true when a new plan was asked for
   void plan_to_goal();
   // The nearest free pose around the robot (in a fixed order), if any.
-  std::optional<msg::Waypoint> escape_pose(const msg::Waypoint& start) const;
+  // The nearest free pose on rings first_ring·backoff_step_m, (first_ring + 1)·step, ...
+  // up to backoff_max_m.
+  std::optional<msg::Waypoint> escape_pose(const msg::Waypoint& start, int first_ring) const;
   void watch_motion();  // goal reached, obstacle, traffic
   void take(const msg::PathSequence& sequence, uint64_t plan_id);
   void request_replan(ReplanReason reason, uint32_t because_of, const std::string& detail);
@@ -158,6 +160,7 @@ class LowLevelPlanner final : public Component {
   bool stopped_ = false;                      // an emergency stop is in force
   std::optional<msg::Waypoint> backing_off_;  // the free pose it is backing off to
   int consecutive_failures_ = 0;
+  int consecutive_backoffs_ = 0;  // starts in collision since the last path planned
   uint64_t local_path_id_ = 0;
   msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
   msg::Maneuver::Kind last_maneuver_ = msg::Maneuver::Kind::kResume;
