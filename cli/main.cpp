@@ -1,5 +1,5 @@
-// scancrew: the command line. Subcommands: run, components, graph, render, groundtruth, eval,
-// report, bench (ipc, sim, perception, tsdf, ise, tsp, planner).
+// scancrew: the command line. Subcommands: run, sweep, components, graph, render, groundtruth,
+// eval, report, bench (ipc, sim, perception, tsdf, ise, tsp, planner).
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -10,6 +10,7 @@
 #include "cli/render_command.hpp"
 #include "cli/report.hpp"
 #include "cli/run_command.hpp"
+#include "cli/sweep_command.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 #include "mission/run_report.hpp"
@@ -78,9 +79,47 @@ int main(int argc, char** argv) {
                   "override a parameter: name.key=value (a component's name, or run / executor)")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  run->add_option("--robots", run_options.robot_count,
+                  "run the first N robots of the launch file's robots: list (default: all)")
+      ->check(CLI::Range(size_t{1}, size_t{1000}));
   run->add_option("--trace-events", run_options.trace_events,
                   "missions: callbacks kept for trace.json (24 bytes each; 0: no tracing)")
       ->capture_default_str();
+
+  scancrew::cli::SweepOptions sweep_options;
+  auto* sweep = app.add_subcommand(
+      "sweep", "run a mission over architectures x robots x seeds; results tables (MD, CSV)");
+  sweep
+      ->add_option("file", sweep_options.path,
+                   "sweep file (architectures: one launch file each) or a launch file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sweep
+      ->add_option("--robots", sweep_options.robots,
+                   "team sizes, e.g. 1,2,3,4 (default: every robot of each launch file)")
+      ->delimiter(',')
+      ->check(CLI::Range(size_t{1}, size_t{1000}));
+  sweep
+      ->add_option("--arch", sweep_options.archs,
+                   "architectures (default: every one of the sweep file)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"single", "centralized", "distributed"}));
+  sweep->add_option("--seeds", sweep_options.seeds, "runs per team, seeds 1..N")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  sweep->add_option("--out", sweep_options.out_dir,
+                    "output folder: sweep.md, sweep.csv, a run directory per run "
+                    "(default runs/sweep_<file stem>)");
+  sweep
+      ->add_option("--set", sweep_options.sets,
+                   "override a parameter in every run: name.key=value (after the seed's)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  sweep
+      ->add_option("--seed-keys", sweep_options.seed_keys,
+                   "parameters set to the seed (default: the sweep file's seed_keys, else "
+                   "sim.seed,low_level.planner_seed)")
+      ->delimiter(',');
 
   auto* components = app.add_subcommand("components", "list the registered component types");
 
@@ -302,6 +341,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   if (run->parsed()) return scancrew::cli::run_launch(run_options);
+  if (sweep->parsed()) return scancrew::cli::run_sweep(sweep_options);
   if (components->parsed()) return cmd_components();
   if (graph->parsed()) return cmd_graph(graph_path);
   if (render->parsed()) return scancrew::cli::run_render(render_options);

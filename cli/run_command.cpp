@@ -36,7 +36,10 @@ using Json = nlohmann::ordered_json;
 
 Launch* g_running = nullptr;
 
+volatile std::sig_atomic_t g_interrupted = 0;
+
 void on_signal(int /*signal*/) {
+  g_interrupted = 1;
   if (g_running != nullptr) g_running->request_stop();
 }
 
@@ -273,7 +276,8 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
 }  // namespace
 
 int run_launch(const RunOptions& o) {
-  auto composed = Launch::from_file(o.launch_path, {.overrides = o.sets, .out_dir = o.out_dir});
+  auto composed = Launch::from_file(
+      o.launch_path, {.overrides = o.sets, .out_dir = o.out_dir, .robot_count = o.robot_count});
   if (!composed) {
     std::fprintf(stderr, "scancrew: %s: %zu error(s); nothing was started\n", o.launch_path.c_str(),
                  composed.error().size());
@@ -297,6 +301,7 @@ int run_launch(const RunOptions& o) {
   }
   RunFacts run{.launch_path = o.launch_path, .started = local_time_now()};
   g_running = launch.get();
+  g_interrupted = 0;
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   std::fprintf(stderr, "scancrew: running %s (%zu components; Ctrl-C stops%s)\n",
@@ -306,7 +311,6 @@ int run_launch(const RunOptions& o) {
   const auto wall = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
-  bool interrupted = false;
   run.sim_s = launch->run([&](double elapsed, double duration) {
     if (monitor)
       print_mission_progress(*monitor, elapsed, duration, wall(), false);
@@ -314,9 +318,7 @@ int run_launch(const RunOptions& o) {
       print_progress(stderr, launch->graph(), elapsed, duration, false);
   });
   run.wall_s = wall();
-  // a signal during the run left request_stop() set; the monitor's stop is not a signal
-  interrupted = monitor && !monitor->finished() && launch->settings().duration_s > 0 &&
-                run.sim_s + 1e-6 < launch->settings().duration_s;
+  const bool interrupted = g_interrupted != 0;  // Ctrl-C / SIGTERM, not the monitor's stop
   g_running = nullptr;
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);

@@ -17,6 +17,7 @@ struct RunOptions {
   std::string launch_path;
   std::string out_dir;            // "" = runs/<launch stem>
   std::vector<std::string> sets;  // name.key=value
+  size_t robot_count = 0;         // N: the first N robots of the file; 0: as it says
   // missions: per-component compute time and trace.json, at most this many callbacks kept
   // (24 bytes each; beyond it only counted); 0: no tracing
   size_t trace_events = 1'000'000;

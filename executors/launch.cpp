@@ -50,7 +50,7 @@ class LaunchBuilder {
     auto launch = std::unique_ptr<Launch>(new Launch());
     launch->out_dir_ = out_dir();
     read_settings(root, launch->settings_);
-    read_robots(root["robots"]);
+    read_robots(root["robots"], launch->settings_.robots);
     read_components(root["components"]);
     if (!errors_.empty()) return make_unexpected(errors_);
     compose(*launch);
@@ -159,11 +159,29 @@ class LaunchBuilder {
     run.optional("sim_step_s", s.sim_step_s, {1e-6, 10});
     run.optional("real_time_factor", s.real_time_factor, {0, 1e6});
     run.optional("progress_period_s", s.progress_period_s, {0.01, 3600});
+    uint64_t robots = 0;
+    run.optional("robots", robots, {0, 1e6});
+    s.robots = robots;
     run.finish();
     merge(run);
   }
 
-  void read_robots(const YAML::Node& node) {
+  // The robots: list, or its first N (LaunchOptions::robot_count, else run.robots).
+  void read_robots(const YAML::Node& node, size_t run_robots) {
+    read_robot_list(node);
+    const size_t listed = node.IsSequence() ? node.size() : 1;
+    const size_t asked = options_.robot_count > 0 ? options_.robot_count : run_robots;
+    if (asked > listed)
+      errors_.push_back(yaml_location(file_, node) + ": " +
+                        (options_.robot_count > 0 ? "robots: " : "run.robots: ") +
+                        std::to_string(asked) + " robots asked for" +
+                        (options_.robot_count > 0 ? " (--robots)" : "") + ", but the file lists " +
+                        std::to_string(listed));
+    else if (asked > 0 && robots_.size() > asked)
+      robots_.resize(asked);
+  }
+
+  void read_robot_list(const YAML::Node& node) {
     if (!node.IsDefined() || node.IsNull()) {
       robots_.push_back({});
       return;

@@ -36,6 +36,7 @@ struct LaunchSettings {
   double sim_step_s = 0.01;        // sim clock: time advanced per step
   double real_time_factor = 0.0;   // sim clock, threaded executor: 0 = as fast as possible
   double progress_period_s = 1.0;  // how often run() reports progress
+  size_t robots = 0;  // run.robots: the first N robots of the robots: list run (0: all)
 };
 
 // What the command line adds to a launch file.
@@ -46,6 +47,9 @@ struct LaunchOptions {
   // Replaces "{out}" in every component's string parameters (the run directory); empty:
   // "runs/<launch file stem>".
   std::string out_dir;
+  // N: the first N robots of the file's robots: list (more than it lists: an error); 0: as
+  // the file says (run.robots, else all of them).
+  size_t robot_count = 0;
 };
 
 class Launch {

@@ -360,5 +360,87 @@ components:
   EXPECT_FALSE(out_of_range);
 }
 
+// the labels of the per-robot test_named instances: "{ns}" of each robot that runs
+std::vector<std::string> robots_run(const Launch& launch) {
+  std::vector<std::string> names;
+  for (const auto& c : launch.components())
+    if (const auto* n = dynamic_cast<const Named*>(c.get())) names.push_back(n->config().label);
+  return names;
+}
+
+constexpr const char* kThreeRobots = R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: 0.1, sim_step_s: 0.05}
+robots:
+  - {id: 1, namespace: r1}
+  - {id: 2, namespace: r2}
+  - {id: 3, namespace: r3}
+components:
+  - {name: per, type: test_named, params: {label: "{ns}"}}
+)";
+
+TEST(Launch, RobotCountRunsTheFirstRobotsOfTheList) {
+  auto all = Launch::from_string(kThreeRobots, "team.yaml");
+  ASSERT_TRUE(all) << all.error().front();
+  EXPECT_EQ(robots_run(**all), (std::vector<std::string>{"r1", "r2", "r3"}));
+  auto two = Launch::from_string(kThreeRobots, "team.yaml", {.robot_count = 2});
+  ASSERT_TRUE(two) << two.error().front();
+  EXPECT_EQ(robots_run(**two), (std::vector<std::string>{"r1", "r2"}));
+  auto one = Launch::from_string(kThreeRobots, "team.yaml", {.robot_count = 1});
+  ASSERT_TRUE(one) << one.error().front();
+  EXPECT_EQ(robots_run(**one), (std::vector<std::string>{"r1"}));
+  auto three = Launch::from_string(kThreeRobots, "team.yaml", {.robot_count = 3});
+  ASSERT_TRUE(three) << three.error().front();
+  EXPECT_EQ(robots_run(**three), (std::vector<std::string>{"r1", "r2", "r3"}));
+}
+
+TEST(Launch, MoreRobotsThanListedIsRefusedNamingBothNumbers) {
+  auto four = Launch::from_string(kThreeRobots, "team.yaml", {.robot_count = 4});
+  ASSERT_FALSE(four);
+  ASSERT_EQ(four.error().size(), 1u);
+  EXPECT_NE(four.error().front().find("team.yaml:6: robots: 4 robots asked for (--robots), but "
+                                      "the file lists 3"),
+            std::string::npos)
+      << four.error().front();
+  // without a robots: list a launch file has one robot
+  auto no_list = Launch::from_string(R"(
+clock: sim
+executor: {type: step}
+components:
+  - {name: per, type: test_named, params: {label: "{ns}"}}
+)",
+                                     "alone.yaml", {.robot_count = 2});
+  ASSERT_FALSE(no_list);
+  EXPECT_NE(no_list.error().front().find("2 robots asked for (--robots), but the file lists 1"),
+            std::string::npos)
+      << no_list.error().front();
+  auto one = Launch::from_string(R"(
+clock: sim
+executor: {type: step}
+components:
+  - {name: per, type: test_named, params: {label: "x"}}
+)",
+                                 "alone.yaml", {.robot_count = 1});
+  EXPECT_TRUE(one);
+}
+
+TEST(Launch, RunRobotsIsTheFilesOwnCountAndRobotCountOverridesIt) {
+  const std::string text = kThreeRobots;
+  auto with_default = Launch::from_string(text, "team.yaml", {.overrides = {"run.robots=2"}});
+  ASSERT_TRUE(with_default) << with_default.error().front();
+  EXPECT_EQ((*with_default)->settings().robots, 2u);
+  EXPECT_EQ(robots_run(**with_default), (std::vector<std::string>{"r1", "r2"}));
+  auto overridden =
+      Launch::from_string(text, "team.yaml", {.overrides = {"run.robots=2"}, .robot_count = 3});
+  ASSERT_TRUE(overridden) << overridden.error().front();
+  EXPECT_EQ(robots_run(**overridden), (std::vector<std::string>{"r1", "r2", "r3"}));
+  auto too_many = Launch::from_string(text, "team.yaml", {.overrides = {"run.robots=5"}});
+  ASSERT_FALSE(too_many);
+  EXPECT_NE(too_many.error().front().find("run.robots: 5 robots asked for, but the file lists 3"),
+            std::string::npos)
+      << too_many.error().front();
+}
+
 }  // namespace
 }  // namespace scancrew
