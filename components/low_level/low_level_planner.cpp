@@ -43,6 +43,8 @@ LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
   p.optional("replan_timeout_s", c.replan_timeout_s, {0.1, 1e6});
   p.optional("backoff_max_m", c.backoff_max_m, {0, 100});
   p.optional("backoff_step_m", c.backoff_step_m, {0.01, 10});
+  p.optional("backoff_min_m", c.backoff_min_m, {0.01, 100});
+  if (c.backoff_min_m > c.backoff_max_m) p.report("backoff_min_m", "must not exceed backoff_max_m");
   p.optional("ground_nominal_speed_mps", c.ground_nominal_speed_mps, {0.01, 100});
   p.optional("multirotor_nominal_speed_mps", c.multirotor_nominal_speed_mps, {0.01, 100});
   p.optional("ground_traffic_radius_m", c.ground_traffic_radius_m, {0.01, 100});
@@ -282,7 +284,6 @@ void LowLevelPlanner::plan_to_goal() {
       path_sent_ = true;
       stopped_ = false;
       consecutive_failures_ = 0;
-      consecutive_backoffs_ = 0;
       mode_ = Mode::kMoving;
       send_maneuver(msg::Maneuver::Kind::kResume, {}, 0);
       return;
@@ -299,10 +300,7 @@ void LowLevelPlanner::plan_to_goal() {
     log_once("start", r.message +
                           " (backing off to the nearest free pose; further such "
                           "cases are counted)");
-    // each back-off in a row looks one ring further: an escape pose within the tracker's
-    // tolerance would be "reached" without a move, and the robot would back off forever
-    ++consecutive_backoffs_;
-    if (auto escape = escape_pose(request.start, consecutive_backoffs_)) {
+    if (auto escape = escape_pose(request.start)) {
       if (auto loan = path_pub_.loan()) {
         (*loan)->plan_id = ++local_path_id_;
         (*loan)->waypoints = {request.start, *escape};
@@ -316,7 +314,6 @@ void LowLevelPlanner::plan_to_goal() {
       send_maneuver(msg::Maneuver::Kind::kResume, {}, 0);
       return;
     }
-    consecutive_backoffs_ = 0;
     request_replan(ReplanReason::kInfeasible, 0, r.message + ", no free pose near");
     return;
   }
@@ -330,16 +327,30 @@ void LowLevelPlanner::plan_to_goal() {
                    std::to_string(consecutive_failures_) + " viewpoints without a path");
 }
 
-std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& start,
-                                                          int first_ring) const {
+std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& start) const {
   constexpr int kDirections = 16;
   const bool multirotor = checks_.obstacle.kind == RobotKind::kMultirotor;
-  for (double r = config_.backoff_step_m * std::max(1, first_ring);
-       r <= config_.backoff_max_m + 1e-9; r += config_.backoff_step_m) {
+  // the map holds no teammate (their depth is masked): keep clear of them here
+  const auto clear_of_teammates = [&](const msg::Waypoint& w) {
+    for (const Teammate& t : teammates_) {
+      if (!t.seen || t.state.mode == Mode::kLost) continue;
+      const double gap = traffic_radius_m_ + t.traffic_radius_m;
+      if ((msg::to_eigen(w.position) - msg::to_eigen(t.state.T_world_body.position)).norm() < gap)
+        return false;
+    }
+    return true;
+  };
+  const auto free = [&](const msg::Waypoint& w) {
+    return clear_of_teammates(w) && planner_->is_free(w);
+  };
+  // from backoff_min_m: an escape pose within the tracker's position tolerance would be
+  // "reached" without a move, and the robot would back off on the spot forever
+  for (double r = config_.backoff_min_m; r <= config_.backoff_max_m + 1e-9;
+       r += config_.backoff_step_m) {
     if (multirotor) {
       msg::Waypoint up = start;
       up.position.z += r;
-      if (planner_->is_free(up)) return up;
+      if (free(up)) return up;
     }
     for (int k = 0; k < kDirections; ++k) {
       // behind first: the robot stopped facing what it must not hit
@@ -348,7 +359,7 @@ std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& s
       msg::Waypoint w = start;
       w.position.x += r * std::cos(angle);
       w.position.y += r * std::sin(angle);
-      if (planner_->is_free(w)) return w;
+      if (free(w)) return w;
     }
   }
   return std::nullopt;

@@ -34,7 +34,7 @@
 // unanswered for replan_timeout_s is sent again (the robot_state mode is toggled through kIdle).
 //
 // Parameters: pose_source, control_period_s, traffic_policy, redundancy_check,
-// max_consecutive_failures, replan_timeout_s, backoff_max_m, backoff_step_m,
+// max_consecutive_failures, replan_timeout_s, backoff_max_m, backoff_step_m, backoff_min_m,
 // `<kind>_nominal_speed_mps`,
 // `<kind>_traffic_radius_m`, the planner core's keys
 // (read_planner_config: robot_type is the launch file's kind) and the checks' keys
@@ -73,8 +73,10 @@ class LowLevelPlanner final : public Component {
     int max_consecutive_failures = 3;
     double replan_timeout_s = 10.0;
     // a start in collision: back off to the nearest free pose within backoff_max_m
-    // (rings backoff_step_m apart, 16 directions; a multirotor also tries up), then plan
-    double backoff_max_m = 1.0, backoff_step_m = 0.1;
+    // (rings backoff_step_m apart from backoff_min_m, 16 directions; a multirotor also
+    // tries up), then plan. backoff_min_m must exceed the tracker's position tolerance
+    // (0.1 m): a closer pose is "reached" without moving.
+    double backoff_max_m = 1.0, backoff_step_m = 0.1, backoff_min_m = 0.2;
     // the traffic policy's view of every robot of the kind: nominal speed (table 5.3: 0.5
     // m/s ground; 2.6.1: 0.6 m/s multirotor) and the radius holding its body (the ground
     // robot of sim/robot_model.hpp: 0.44 x 0.40 m; a multirotor with rotors: 0.5 m)
@@ -126,9 +128,9 @@ class LowLevelPlanner final : public Component {
   bool follow_checks();  // redundancy, utility: true when a new plan was asked for
   void plan_to_goal();
   // The nearest free pose around the robot (in a fixed order), if any.
-  // The nearest free pose on rings first_ring·backoff_step_m, (first_ring + 1)·step, ...
-  // up to backoff_max_m.
-  std::optional<msg::Waypoint> escape_pose(const msg::Waypoint& start, int first_ring) const;
+  // The nearest free pose clear of the teammates on rings backoff_min_m, + step, ... up to
+  // backoff_max_m.
+  std::optional<msg::Waypoint> escape_pose(const msg::Waypoint& start) const;
   void watch_motion();  // goal reached, obstacle, traffic
   void take(const msg::PathSequence& sequence, uint64_t plan_id);
   void request_replan(ReplanReason reason, uint32_t because_of, const std::string& detail);
@@ -160,7 +162,6 @@ class LowLevelPlanner final : public Component {
   bool stopped_ = false;                      // an emergency stop is in force
   std::optional<msg::Waypoint> backing_off_;  // the free pose it is backing off to
   int consecutive_failures_ = 0;
-  int consecutive_backoffs_ = 0;  // starts in collision since the last path planned
   uint64_t local_path_id_ = 0;
   msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
   msg::Maneuver::Kind last_maneuver_ = msg::Maneuver::Kind::kResume;
