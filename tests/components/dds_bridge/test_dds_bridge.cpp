@@ -163,7 +163,7 @@ SCANCREW_REGISTER_COMPONENT(Sink, "test_dds_sink")
 // The process id the domain and partition come from: ours, or the parent's in the child of
 // AKilledRobotProcessIsReportedLostWhenItsLeaseRunsOut.
 uint32_t test_pid() {
-  // getenv is read before any thread starts: NOLINTNEXTLINE(concurrency-mt-unsafe)
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): getenv is read before any thread starts
   if (const char* parent = std::getenv("SCANCREW_DDS_TEST_CHILD"))
     return static_cast<uint32_t>(std::strtoul(parent, nullptr, 10));
   return static_cast<uint32_t>(::getpid());
@@ -599,7 +599,7 @@ TEST(DdsBridge, ADestroyedTeammateIsReportedLost) {
 
 // The child of the next test: a robot that runs until it is killed.
 TEST(DdsBridgeChild, RunsARobotUntilKilled) {
-  // getenv is read before any thread starts: NOLINTNEXTLINE(concurrency-mt-unsafe)
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): getenv is read before any thread starts
   if (std::getenv("SCANCREW_DDS_TEST_CHILD") == nullptr)
     GTEST_SKIP() << "only run as the child process of AKilledRobotProcessIsReportedLost...";
   Robot r4(4, "", "[robot_state]");
