@@ -14,6 +14,7 @@
 #include <ompl/util/RandomNumbers.h>
 
 #include <algorithm>
+#include <array>
 #include <boost/range/iterator_range.hpp>
 #include <chrono>
 #include <cmath>
@@ -27,6 +28,7 @@
 #include <utility>
 
 #include "components/low_level/collision_map.hpp"
+#include "components/low_level/guide_path.hpp"
 #include "executors/log.hpp"
 
 namespace scancrew::low_level {
@@ -52,6 +54,12 @@ class ReusableLazyPrmStar : public og::LazyPRMstar {
   explicit ReusableLazyPrmStar(const ob::SpaceInformationPtr& si) : og::LazyPRMstar(si) {}
 
   size_t vertex_count() const { return boost::num_vertices(g_); }
+  // Adds a milestone the caller has checked (guided sampling); edges unchecked, as LazyPRM*'s
+  // own. Needs setup().
+  void add_checked_milestone(const ob::State* s) {
+    const Vertex v = addMilestone(si_->cloneState(s));
+    vertexValidityProperty_[v] = VALIDITY_TRUE;
+  }
   size_t edge_count() const { return boost::num_edges(g_); }
 
   template <class StateTouches, class MotionTouches>
@@ -351,6 +359,7 @@ struct MotionPlanner::Impl {
   std::shared_ptr<ob::PathLengthOptimizationObjective> objective;
   Eigen::AlignedBox3d bounds;  // the sampling box (grows only)
   std::optional<std::pair<PlanStatus, msg::Waypoint>> last_logged;
+  std::optional<GuideGrid> guide;  // of the current map and bounds, built on first use
 
   explicit Impl(const PlannerConfig& c)
       : config(c), body(body_of(c)), map(body, c.unknown_is_occupied) {
@@ -460,12 +469,25 @@ struct MotionPlanner::Impl {
     }
   }
   // The longest motion checked at one state: collision_check_step_m, as a fraction of the
-  // space's extent (which changes with the bounds).
+  // space's extent (which changes with the bounds). The yaw (SO(2), extent pi) gets its own
+  // step, collision_check_step_m / the body's bounding radius: a rotation by it moves no
+  // point of the body further than the step. With the whole space's fraction the yaw was
+  // checked every ~0.01 rad on a parking-lot map (a 6 mm move of the ellipse's tip), and
+  // rotating edges cost hundreds of checks.
   void set_check_resolution() {
     const double extent = space->getMaximumExtent();
     si->setStateValidityCheckingResolution(
         std::min(1.0, config.collision_check_step_m / std::max(extent, 1e-9)));
     space->setup();
+    // a sphere is the same at any yaw: its yaw needs no intermediate checks
+    const double lever_m =
+        std::abs(body.radii_m.x() - body.radii_m.y()) > 1e-9 ? body.bounding_radius_m() : 0.0;
+    const double yaw_step = lever_m > 0 ? config.collision_check_step_m / lever_m
+                                        : std::numeric_limits<double>::infinity();
+    const ob::StateSpacePtr& yaw = space->as<ob::CompoundStateSpace>()->getSubspace(1);
+    // OMPL takes a fraction in (0, 1)
+    yaw->setLongestValidSegmentFraction(std::min(0.999, yaw_step / yaw->getMaximumExtent()));
+    yaw->setup();
   }
   // Grows the sampling box to hold `box` (plus the margin; a multirotor's z clipped to its
   // altitudes).
@@ -538,6 +560,50 @@ struct MotionPlanner::Impl {
   }
 
   PlanResult plan(const PlanRequest& q);
+
+  // Guided sampling (guide_path.hpp): poses along the grid path from start to goal, those
+  // free of collision, become roadmap milestones.
+  void add_guide(const msg::Waypoint& start, const msg::Waypoint& goal, PlanStats& stats) {
+    const auto t0 = Clock::now();
+    const Eigen::AlignedBox2d box(bounds.min().head<2>(), bounds.max().head<2>());
+    const auto& snapshot = map.snapshot();
+    if (!guide || guide->map_sequence() != snapshot->sequence() || !guide->bounds().isApprox(box)) {
+      GuideConfig g;
+      // the body's mid-height layer: its cross-section there holds the disc of the smaller
+      // semi-axis (higher and lower, the ellipsoid narrows)
+      g.z_lo_m = config.ground_body_center_z_m;
+      g.z_hi_m = config.ground_body_center_z_m;
+      g.clearance_m = body.radii_m.head<2>().minCoeff();
+      g.spacing_m = body.bounding_radius_m();
+      g.unknown_is_occupied = config.unknown_is_occupied;
+      guide.emplace(*snapshot, box, g);
+    }
+    const std::vector<GuidePose> poses =
+        guide->search({start.position.x, start.position.y}, {goal.position.x, goal.position.y});
+    ob::ScopedState<> s(space);
+    // a grid cell's centre may sit off the passage's middle by up to half a cell: the pose
+    // is nudged sideways (and turned a little) until the body is free
+    const double v = snapshot->voxel_m();
+    const std::array<double, 5> side{0.0, -0.25 * v, 0.25 * v, -0.5 * v, 0.5 * v};
+    const std::array<double, 3> turn{0.0, -0.1, 0.1};
+    for (const GuidePose& p : poses) {
+      msg::Waypoint w;
+      bool free = false;
+      for (size_t k = 0; k < side.size() * turn.size() && !free; ++k) {
+        const double yaw = p.yaw + turn[k / side.size()];
+        const double off = side[k % side.size()];
+        w.position = {p.x - off * std::sin(yaw), p.y + off * std::cos(yaw),
+                      config.ground_body_center_z_m};
+        w.yaw_rad = yaw;
+        free = !map.collides(pose_of(w));
+      }
+      if (!free) continue;
+      set_state(s.get(), w);
+      planner->add_checked_milestone(s.get());
+      ++stats.guide_milestones;
+    }
+    stats.guide_ms = ms_since(t0);
+  }
   RoadmapDistances roadmap_distances(const msg::Waypoint& from,
                                      const std::vector<msg::Waypoint>& targets);
 
@@ -699,6 +765,10 @@ PlanResult MotionPlanner::Impl::plan(const PlanRequest& q) {
                                     : objective->infiniteCost());
     pdef->setOptimizationObjective(objective);
     planner->setProblemDefinition(pdef);  // clearQuery(): the roadmap stays
+    if (ground() && config.guide_grid) {
+      if (!planner->isSetup()) planner->setup();
+      add_guide(q.start, q.goal, r.stats);
+    }
     const auto ts = Clock::now();
     ob::PlannerStatus status = ob::PlannerStatus::UNKNOWN;
     std::string error;

@@ -78,6 +78,8 @@ struct PlanStats {
   bool roadmap_cleared = false;  // the roadmap was over roadmap_max_vertices and dropped
   double raw_length_m = 0;       // the roadmap's path, before shortcutting (state distance)
   double length_m = 0;           // the returned path (state-space distance)
+  size_t guide_milestones = 0;   // guided sampling: grid-path poses added to the roadmap
+  double guide_ms = 0;           // guided sampling (grid, search, checks)
 };
 
 struct PlanResult {

@@ -62,6 +62,7 @@ PlannerConfig read_planner_config(ParamReader& p) {
   p.optional("roadmap_max_vertices", c.roadmap_max_vertices, {10, 1e8});
   p.optional("roadmap_distance_min_vertices", c.roadmap_distance_min_vertices, {0, 1e8});
   p.optional("roadmap_distance_grow_time_s", c.roadmap_distance_grow_time_s, {0, 3600});
+  p.optional("guide_grid", c.guide_grid);
   p.optional("goal_tolerance_m", c.goal_tolerance_m, {1e-6, 10});
   p.optional("planner_seed", c.seed);
   if (const std::string e = c.validate(); !e.empty()) p.report(e.substr(0, e.find(':')), e);

@@ -58,6 +58,9 @@ struct PlannerConfig {
   // only plan() grows it)
   int64_t roadmap_distance_min_vertices = 500;
   double roadmap_distance_grow_time_s = 0.25;
+  // ground robots: before LazyPRM* searches, poses along a 2D grid path through the map's
+  // body-height slab are added to the roadmap (guided sampling, guide_path.hpp)
+  bool guide_grid = true;
   double goal_tolerance_m = 1e-3;  // the state-space distance at which the goal is reached
   // OMPL's random seed (process wide, taken once, before the first planner); 0: OMPL's own
   uint64_t seed = 0;
@@ -73,7 +76,7 @@ RobotBody body_of(const PlannerConfig& config);
 // multirotor_body_radius_m, body_margin_m, unknown_is_occupied, max_map_age_s,
 // bounds_margin_m, multirotor_min_altitude_m, multirotor_max_altitude_m,
 // planner_time_limit_s, collision_check_step_m, path_cost_factor, roadmap_max_vertices,
-// roadmap_distance_min_vertices, roadmap_distance_grow_time_s, goal_tolerance_m,
+// roadmap_distance_min_vertices, roadmap_distance_grow_time_s, guide_grid, goal_tolerance_m,
 // planner_seed); problems are collected in the reader.
 PlannerConfig read_planner_config(ParamReader& p);
 
