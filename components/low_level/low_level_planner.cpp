@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "components/low_level/goal_check.hpp"
 #include "components/low_level/map_queries.hpp"
@@ -29,6 +30,35 @@ double yaw_of(const msg::Quat& q) {
 
 bool finite(const msg::Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// The rest of a local path for the traffic policy: the waypoints after the segment nearest
+// to the robot (it is somewhere along that segment), goal last. Not from the nearest
+// waypoint: on a long straight path that is the start, behind the robot, and the policy's
+// path cut at the safety distance would then only hold the way back.
+std::vector<Eigen::Vector3d> remaining_path(const std::vector<msg::Waypoint>& path,
+                                            const Eigen::Vector3d& position) {
+  std::vector<Eigen::Vector3d> rest;
+  if (path.empty()) return rest;
+  size_t from = 0;  // the first waypoint ahead
+  if (path.size() >= 2) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k + 1 < path.size(); ++k) {
+      const Eigen::Vector3d a = msg::to_eigen(path[k].position);
+      const Eigen::Vector3d ab = msg::to_eigen(path[k + 1].position) - a;
+      const double t = ab.squaredNorm() > 0
+                           ? std::clamp((position - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0)
+                           : 0.0;
+      const double d = (a + t * ab - position).squaredNorm();
+      if (d < best) {
+        best = d;
+        from = k + 1;
+      }
+    }
+  }
+  rest.reserve(path.size() - from);
+  for (size_t k = from; k < path.size(); ++k) rest.push_back(msg::to_eigen(path[k].position));
+  return rest;
 }
 
 }  // namespace
@@ -280,6 +310,7 @@ void LowLevelPlanner::plan_to_goal() {
         (*loan)->waypoints = r.path;
         (void)path_pub_.publish(std::move(*loan));
       }
+      local_path_ = r.path;
       ++stats_.paths;
       path_sent_ = true;
       stopped_ = false;
@@ -306,7 +337,9 @@ void LowLevelPlanner::plan_to_goal() {
         (*loan)->waypoints = {request.start, *escape};
         (void)path_pub_.publish(std::move(*loan));
       }
+      local_path_ = {request.start, *escape};
       backing_off_ = escape;
+      backoff_start_ = request.start.position;
       ++stats_.backoffs;
       path_sent_ = true;
       stopped_ = false;
@@ -380,9 +413,14 @@ void LowLevelPlanner::watch_motion() {
   const Eigen::Vector3d position = msg::to_eigen(pose_->T_world_body.position);
   const double yaw = yaw_of(pose_->T_world_body.orientation);
   if (backing_off_) {
-    // the tracker stops at the escape pose; then the goal is planned again from there
-    if ((position - msg::to_eigen(backing_off_->position)).norm() <
-        checks_.goal.position_tolerance_m) {
+    // the tracker stops at the escape pose (within its tolerance, 0.1 m); then the goal is
+    // planned again from there. Reached: within GoalReached's tolerance (0.25 m), but closer
+    // than 0.6 of the way for a short back-off: the escape pose backoff_min_m (0.2 m) away
+    // lies within 0.25 m of the start, so it would count as reached before any motion, and
+    // the robot would back off on the spot, tick after tick
+    const Eigen::Vector3d escape = msg::to_eigen(backing_off_->position);
+    const double way_m = (escape - msg::to_eigen(backoff_start_)).norm();
+    if ((position - escape).norm() < std::min(checks_.goal.position_tolerance_m, 0.6 * way_m)) {
       backing_off_.reset();
       path_sent_ = false;
     }
@@ -434,23 +472,11 @@ void LowLevelPlanner::watch_motion() {
     // a teammate still on its last path (it may be waiting for a plan meanwhile) has the
     // rest of it ahead; one at rest off a path holds its place
     const bool moving = t.state.mode == Mode::kMoving || a.velocity_mps.norm() > kMovingSpeedMps;
-    if (moving && !t.local_path.empty()) {
-      // the rest of its local path: from the waypoint nearest to it
-      size_t nearest = 0;
-      double best = 1e300;
-      for (size_t k = 0; k < t.local_path.size(); ++k) {
-        const double d = (msg::to_eigen(t.local_path[k].position) - a.position).squaredNorm();
-        if (d < best) {
-          best = d;
-          nearest = k;
-        }
-      }
-      for (size_t k = nearest; k < t.local_path.size(); ++k)
-        a.path.push_back(msg::to_eigen(t.local_path[k].position));
-    }
+    if (moving) a.path = remaining_path(t.local_path, a.position);
     others.push_back(std::move(a));
   }
   TrafficAgent me = self_agent();
+  me.path = remaining_path(local_path_, me.position);  // without it the robot reads as holding
   FreeSpaceSpec spec;
   spec.kind = checks_.obstacle.kind;
   spec.body_radius_m = me.body_radius_m;

@@ -159,8 +159,10 @@ class LowLevelPlanner final : public Component {
   std::optional<uint64_t> awaiting_after_;  // a request is out: take the first plan newer
   double awaiting_since_s_ = 0;
   bool path_sent_ = false;                    // a local path to the current goal is out
+  std::vector<msg::Waypoint> local_path_;     // the last one sent (the traffic policy's)
   bool stopped_ = false;                      // an emergency stop is in force
   std::optional<msg::Waypoint> backing_off_;  // the free pose it is backing off to
+  msg::Vec3 backoff_start_;                   // from where
   int consecutive_failures_ = 0;
   uint64_t local_path_id_ = 0;
   msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
