@@ -765,7 +765,9 @@ PlanResult MotionPlanner::Impl::plan(const PlanRequest& q) {
                                     : objective->infiniteCost());
     pdef->setOptimizationObjective(objective);
     planner->setProblemDefinition(pdef);  // clearQuery(): the roadmap stays
-    if (ground() && config.guide_grid) {
+    // with unknown space free the grid is mostly free and guides little; in the parking-lot
+    // mission (unknown free) it was seen to leave a robot stuck on its path: not used there
+    if (ground() && config.guide_grid && config.unknown_is_occupied) {
       if (!planner->isSetup()) planner->setup();
       add_guide(q.start, q.goal, r.stats);
     }

@@ -58,8 +58,9 @@ struct PlannerConfig {
   // only plan() grows it)
   int64_t roadmap_distance_min_vertices = 500;
   double roadmap_distance_grow_time_s = 0.25;
-  // ground robots: before LazyPRM* searches, poses along a 2D grid path through the map's
-  // body-height slab are added to the roadmap (guided sampling, guide_path.hpp)
+  // ground robots with unknown_is_occupied: before LazyPRM* searches, poses along a 2D grid
+  // path through the map's body-height layer are added to the roadmap (guided sampling,
+  // guide_path.hpp)
   bool guide_grid = true;
   double goal_tolerance_m = 1e-3;  // the state-space distance at which the goal is reached
   // OMPL's random seed (process wide, taken once, before the first planner); 0: OMPL's own
