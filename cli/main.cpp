@@ -1,5 +1,5 @@
 // scancrew: the command line. Subcommands: run, sweep, components, graph, render, groundtruth,
-// eval, report, bench (ipc, sim, perception, tsdf, ise, tsp, planner).
+// eval, report, bench (ipc, sim, perception, tsdf, ise, tsp, planner, pipeline).
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -18,6 +18,7 @@
 #include "bench/ipc/ipc_bench.hpp"
 #include "bench/ise/ise_bench.hpp"
 #include "bench/perception/perception_bench.hpp"
+#include "bench/pipeline/pipeline_bench.hpp"
 #include "bench/planner/planner_bench.hpp"
 #include "bench/sim/sim_bench.hpp"
 #include "bench/tsdf/tsdf_bench.hpp"
@@ -338,6 +339,32 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->check(CLI::IsMember({"parking_lot", "powerplant"}));
 
+  scancrew::bench::PipelineBenchOptions pipeline_bench;
+  auto* pipeline_cmd = bench->add_subcommand(
+      "pipeline",
+      "one robot's graph on the wall clock: latency per stage and end to end, highest camera "
+      "rate without dropped frames");
+  pipeline_cmd->add_flag("--json", pipeline_bench.json, "print one JSON object");
+  pipeline_cmd->add_flag("--quick", pipeline_bench.quick,
+                         "12 pairs per trial, 2 search trials per size (smoke test)");
+  pipeline_cmd->add_option("--launch", pipeline_bench.launch_path, "the graph (launch file)")
+      ->check(CLI::ExistingFile);
+  pipeline_cmd->add_option("--scene", pipeline_bench.scene_path, "scene to render the pairs in")
+      ->check(CLI::ExistingFile);
+  pipeline_cmd->add_option("--sizes", pipeline_bench.sizes, "image sizes (default 320x256,640x480)")
+      ->delimiter(',');
+  pipeline_cmd->add_option("--frames", pipeline_bench.frames, "stereo pairs per trial (100)")
+      ->check(CLI::Range(2, 100000));
+  pipeline_cmd->add_option("--rate", pipeline_bench.nominal_rate_hz, "nominal camera rate, Hz (5)")
+      ->check(CLI::Range(0.1, 1000.0));
+  pipeline_cmd->add_option("--threads", pipeline_bench.threads, "executor threads (2)")
+      ->check(CLI::Range(1, 64));
+  pipeline_cmd->add_option("--trials", pipeline_bench.max_trials, "rate-search trials per size (8)")
+      ->check(CLI::Range(1, 100));
+  pipeline_cmd->add_option("--set", pipeline_bench.sets,
+                           "override a launch parameter: name.key=value (as scancrew run --set)");
+  pipeline_cmd->add_option("--seed", pipeline_bench.seed, "simulator seed (default 1)");
+
   CLI11_PARSE(app, argc, argv);
 
   if (run->parsed()) return scancrew::cli::run_launch(run_options);
@@ -383,6 +410,14 @@ int main(int argc, char** argv) {
   if (tsp_cmd->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_tsp_bench(tsp_bench);
+#else
+    std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
+    return 2;
+#endif
+  }
+  if (pipeline_cmd->parsed()) {
+#ifdef SCANCREW_WITH_BENCH
+    return scancrew::bench::run_pipeline_bench(pipeline_bench);
 #else
     std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
     return 2;
