@@ -564,6 +564,24 @@ bool is_traffic_hold(const RobotLog::Maneuver& m) {
 
 // --- the scenarios -----------------------------------------------------------------------
 
+// The two-robot scenarios' common checks: the robots never closer than two 0.3 m discs (the
+// policy's bodies), and every local path clear of the scene's true geometry.
+template <class Outcome>
+void expect_apart_and_clear_of_the_truth(const char* name, const std::string& scene,
+                                         const Outcome& o) {
+  const Separation sep = min_separation(*o.probe);
+  EXPECT_GT(sep.centre_m, 0.6);
+  EXPECT_GT(sep.gap_m, 0.0);
+  const Truth truth = load_truth(scene);
+  const PathTally paths = check_paths(truth, o);
+  EXPECT_GE(paths.paths, 2u);
+  EXPECT_EQ(paths.colliding, 0u);
+  std::printf(
+      "[figures] %s: min separation %.3f m centre to centre (footprint gap %.3f m) at "
+      "%.1f s; ran %.1f s; %zu paths, %zu samples, %zu touching the truth\n",
+      name, sep.centre_m, sep.gap_m, sep.t_s, o.ran_s, paths.paths, paths.samples, paths.colliding);
+}
+
 TEST(TrafficScenarios, TwoGroundRobotsHeadOnInACorridorPassWithoutContact) {
   // 9 m apart nose to nose in a 3 m wide corridor; each goal is the other's start
   const std::vector<RobotSetup> robots = {{1, {-4.5, 0, 0, 0}, {{4.5, 0, 0, 0}}},
@@ -596,17 +614,7 @@ TEST(TrafficScenarios, TwoGroundRobotsHeadOnInACorridorPassWithoutContact) {
                           [](const RobotLog::Maneuver& m) {
                             return m.kind == ManeuverKind::kStepAside && m.because_of_robot == 1;
                           }));
-  const Separation sep = min_separation(*o.probe);
-  EXPECT_GT(sep.centre_m, 0.6);  // two 0.3 m discs (the policy's bodies) apart
-  EXPECT_GT(sep.gap_m, 0.0);
-  const Truth truth = load_truth(scene);
-  const PathTally paths = check_paths(truth, o);
-  EXPECT_GE(paths.paths, 2u);
-  EXPECT_EQ(paths.colliding, 0u);
-  std::printf(
-      "[figures] head-on: min separation %.3f m centre to centre (footprint gap %.3f m) at "
-      "%.1f s; ran %.1f s; %zu paths, %zu samples, %zu touching the truth\n",
-      sep.centre_m, sep.gap_m, sep.t_s, o.ran_s, paths.paths, paths.samples, paths.colliding);
+  expect_apart_and_clear_of_the_truth("head-on", scene, o);
 }
 
 TEST(TrafficScenarios, ACrossingRobotWaitsWhileTheOtherPasses) {
@@ -650,17 +658,7 @@ TEST(TrafficScenarios, ACrossingRobotWaitsWhileTheOtherPasses) {
   // a tie at the crossing (both 4 m from it): the lower id proceeds
   EXPECT_EQ(o.planners[0]->stats().traffic_holds, 0u);
   EXPECT_GE(o.planners[1]->stats().traffic_holds, 1u);
-  const Separation sep = min_separation(*o.probe);
-  EXPECT_GT(sep.centre_m, 0.6);
-  EXPECT_GT(sep.gap_m, 0.0);
-  const Truth truth = load_truth(scene);
-  const PathTally paths = check_paths(truth, o);
-  EXPECT_GE(paths.paths, 2u);
-  EXPECT_EQ(paths.colliding, 0u);
-  std::printf(
-      "[figures] crossing: min separation %.3f m centre to centre (footprint gap %.3f m) at "
-      "%.1f s; ran %.1f s; %zu paths, %zu samples, %zu touching the truth\n",
-      sep.centre_m, sep.gap_m, sep.t_s, o.ran_s, paths.paths, paths.samples, paths.colliding);
+  expect_apart_and_clear_of_the_truth("crossing", scene, o);
 }
 
 TEST(TrafficScenarios, TheEmergencyStopFiresBeforeAnUnseenBoxAndTheRobotGoesRound) {
