@@ -72,7 +72,8 @@ std::vector<uint32_t> visible_ises(const tsdf::MapSnapshot& snap, const IseIndex
       walk(position, d, type.min_range_m / cos_axis, type.max_range_m / cos_axis, r,
            [&](const tsdf::VoxelIndex& v) {
              const tsdf::VoxelState s = reader.state(v);
-             if (s != tsdf::VoxelState::kEmpty) return false;
+             if (s == tsdf::VoxelState::kOccupied) return false;
+             if (s == tsdf::VoxelState::kUnknown && !type.viewpoint_in_unknown) return false;
              if (const auto it = ises.find(v); it != ises.end()) seen.push_back(it->second);
              return true;
            });

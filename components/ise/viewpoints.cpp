@@ -58,7 +58,10 @@ bool feasible(const tsdf::MapSnapshot& snap, const RobotTypeSpec& type,
   VoxelReader reader(snap);
   const int reach = static_cast<int>(std::ceil(type.clearance_m / r));
   const tsdf::VoxelIndex c = tsdf::voxel_of(position, r);
-  if (reader.state(c) != tsdf::VoxelState::kEmpty) return false;
+  const tsdf::VoxelState own = reader.state(c);
+  if (own != tsdf::VoxelState::kEmpty &&
+      !(type.viewpoint_in_unknown && own == tsdf::VoxelState::kUnknown))
+    return false;
   auto free = [&](const tsdf::VoxelIndex& v) {
     const tsdf::VoxelState s = reader.state(v);
     return s == tsdf::VoxelState::kEmpty ||

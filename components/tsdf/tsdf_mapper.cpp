@@ -49,6 +49,9 @@ TsdfMapper::Config TsdfMapper::read_config(ParamReader& p) {
   p.optional("request_retry_s", c.request_retry_s, {0.01, 3600});
   p.optional("compression_level", c.compression_level, {1, 19});
   p.optional("depth_queue_depth", c.depth_queue_depth, {1, 1000});
+  p.optional("depth_topic", c.depth_topic);
+  if (c.depth_topic.empty() || c.depth_topic.front() == '/')
+    p.report("depth_topic", "'" + c.depth_topic + "' must be a relative topic name (e.g. depth)");
   p.optional("mesh_path", c.mesh_path);
   p.choice("mesh_colour", c.mesh_colour, {"owner", "none"});
   p.optional("mesh_min_weight", c.mesh_min_weight, {0, 1e6});
@@ -72,11 +75,11 @@ Result<void, std::string> TsdfMapper::on_configure() {
     if (team().empty())
       return make_unexpected(std::string("mode centralized needs the robots: section"));
     for (const TeamMember& m : team())
-      create_subscription<msg::DepthImage>("/" + m.ns + "/depth",
+      create_subscription<msg::DepthImage>("/" + m.ns + "/" + config_.depth_topic,
                                            {.depth = config_.depth_queue_depth}, on_depth_sample);
     return {};
   }
-  create_subscription<msg::DepthImage>("depth", {.depth = config_.depth_queue_depth},
+  create_subscription<msg::DepthImage>(config_.depth_topic, {.depth = config_.depth_queue_depth},
                                        on_depth_sample);
   if (config_.mode != "distributed") return {};
 

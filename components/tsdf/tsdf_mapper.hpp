@@ -78,6 +78,10 @@ class TsdfMapper final : public Component {
     double request_retry_s = 2.0;              // and requested again this often
     int compression_level = 3;                 // zstd level of the patch payload
     uint32_t depth_queue_depth = 4;
+    // the depth topic, relative: the robot's (single, distributed; a remap works too) or each
+    // robot's "/<ns>/<depth_topic>" (centralized, which has no per-robot remap); e.g.
+    // depth_masked, the depth_mask's output
+    std::string depth_topic = "depth";
     // written when the component stops (empty: not written)
     std::string mesh_path;              // the global estimate's mesh, binary PLY
     std::string mesh_colour = "owner";  // owner (each robot's patches in its colour) | none

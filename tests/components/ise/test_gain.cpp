@@ -72,6 +72,19 @@ TEST(GainVisibility, UnknownVoxelOnTheRayHidesTheIse) {
   EXPECT_EQ(c.seen(c.cam1, 0.0), Ids{0});
 }
 
+TEST(GainVisibility, InOpenAirOnlyAnOccupiedVoxelHidesTheIse) {
+  Corridor c;
+  RobotTypeSpec open_air = camera();
+  open_air.viewpoint_in_unknown = true;
+  c.scene.set({10, 0, 0}, VoxelState::kUnknown);
+  EXPECT_EQ(c.seen(c.cam1, 0.0, open_air), Ids{0});
+  EXPECT_EQ(c.seen(c.cam1, 0.0), Ids{});  // the default still stops at unknown space
+  c.scene.set({10, 0, 0}, VoxelState::kOccupied);
+  EXPECT_EQ(c.seen(c.cam1, 0.0, open_air), Ids{});
+  // the wall still hides B from camera 2's side
+  EXPECT_EQ(c.seen(c.cam2, M_PI, open_air), Ids{1});
+}
+
 TEST(GainVisibility, RespectsTheCameraRange) {
   const Corridor c;
   RobotTypeSpec near = camera();

@@ -152,6 +152,27 @@ TEST(ViewpointFeasible, MultirotorNeedsKnownEmptySpaceWithinItsClearance) {
   EXPECT_FALSE(feasible(*scene.snapshot(), multirotor(), kAtVoxel0));
 }
 
+TEST(ViewpointFeasible, InOpenAirTheViewpointsOwnVoxelMayBeUnknownButNotOccupied) {
+  VoxelScene scene;
+  build_free_space(scene);
+  RobotTypeSpec open_air = multirotor();
+  open_air.unknown_is_free = true;
+  open_air.viewpoint_in_unknown = true;
+  scene.set({0, 0, 0}, VoxelState::kUnknown);
+  EXPECT_TRUE(feasible(*scene.snapshot(), open_air, kAtVoxel0));
+  RobotTypeSpec optimistic = multirotor();
+  optimistic.unknown_is_free = true;
+  EXPECT_FALSE(feasible(*scene.snapshot(), optimistic, kAtVoxel0));
+  // never observed space, far from anything
+  EXPECT_TRUE(feasible(*scene.snapshot(), open_air, {5, 5, 5}));
+  // an obstacle in the clearance ball or at the viewpoint still makes it infeasible
+  scene.set({1, 1, 0}, VoxelState::kOccupied);
+  EXPECT_FALSE(feasible(*scene.snapshot(), open_air, kAtVoxel0));
+  scene.set({1, 1, 0}, VoxelState::kEmpty);
+  scene.set({0, 0, 0}, VoxelState::kOccupied);
+  EXPECT_FALSE(feasible(*scene.snapshot(), open_air, kAtVoxel0));
+}
+
 // A floor (occupied layer z = −1, the surface at z = 0) under known empty space.
 void build_floor(VoxelScene& scene) {
   scene.fill({-10, -10, -1}, {10, 10, -1}, VoxelState::kOccupied);

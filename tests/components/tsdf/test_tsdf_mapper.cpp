@@ -260,9 +260,26 @@ TEST(TsdfMapper, ACentralizedMapperIntegratesEveryRobot) {
   EXPECT_EQ(snap->state_at({-1.2, 2.2, 0.3}), VoxelState::kEmpty);
 }
 
+TEST(TsdfMapper, ACentralizedMapperReadsEachRobotsDepthTopic) {
+  // the station reads /<ns>/depth_masked, the depth_masks' output, not the simulator's depth
+  auto launch = run(launch_text(4.0, std::string(R"(
+  - {name: mask, type: depth_mask}
+  - {name: station, type: tsdf_mapper, per_robot: false,
+     params: {mode: centralized, depth_topic: depth_masked, )") +
+                                         kMapParams + "}}\n"));
+  ASSERT_TRUE(launch);
+  auto m = mappers(*launch);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0]->stats().integrated, 40u);
+  const auto snap = m[0]->snapshot();
+  EXPECT_EQ(snap->state_at({1.2, -2.2, 0.3}), VoxelState::kEmpty);
+  EXPECT_EQ(snap->state_at({-1.2, 2.2, 0.3}), VoxelState::kEmpty);
+}
+
 TEST(TsdfMapper, RefusesBadParameters) {
   auto launch = Launch::from_string(launch_text(1.0, R"(
-  - {name: mapper, type: tsdf_mapper, params: {voxel_m: 0.1, truncation_m: 0.01, mode: sideways}}
+  - {name: mapper, type: tsdf_mapper, params: {voxel_m: 0.1, truncation_m: 0.01, mode: sideways,
+                                               depth_topic: /r1/depth}}
 )"),
                                     "bad.yaml");
   ASSERT_FALSE(launch);
@@ -270,6 +287,7 @@ TEST(TsdfMapper, RefusesBadParameters) {
   for (const std::string& e : launch.error()) all += e + "\n";
   EXPECT_NE(all.find("truncation_m"), std::string::npos) << all;
   EXPECT_NE(all.find("mode"), std::string::npos) << all;
+  EXPECT_NE(all.find("depth_topic"), std::string::npos) << all;
 }
 
 }  // namespace
