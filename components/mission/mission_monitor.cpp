@@ -54,7 +54,7 @@ MissionMonitor::Config MissionMonitor::read_config(ParamReader& p) {
   p.optional("coverage_truncation_share", c.coverage_truncation_share, {0.1, 1});
   p.optional("coverage_period_s", c.coverage_period_s, {0.1, 3600});
   p.optional("path_period_s", c.path_period_s, {0.01, 3600});
-  p.choice("maps", c.maps, {"per_robot", "shared"});
+  p.choice("maps", c.maps, {"per_robot", "shared", "none"});
   p.optional("stop_when_complete", c.stop_when_complete);
   p.optional("stall_timeout_s", c.stall_timeout_s, {0, 1e6});
   p.optional("eval_density_per_m2", c.eval_density_per_m2, {1, 1e6});
@@ -84,7 +84,9 @@ Result<void, std::string> MissionMonitor::on_configure() {
   last_pose_.resize(n);
   have_pose_.assign(n, false);
   idle_since_s_.assign(n, -1.0);
-  const bool per_robot = config_.maps == "per_robot";
+  // maps: none has per-robot ISE sources, like per_robot, without their maps
+  const bool per_robot = config_.maps != "shared";
+  const bool maps = config_.maps != "none";
   sources_.resize(per_robot ? n : 1);
   for (size_t i = 0; i < n; ++i) {
     const TeamMember& m = team()[i];
@@ -102,12 +104,13 @@ Result<void, std::string> MissionMonitor::on_configure() {
     const std::string prefix = per_robot ? "/" + team()[k].ns + "/" : "/";
     create_subscription<msg::IseSet>(prefix + "ises", {.depth = 1},
                                      [this, k](Sample<msg::IseSet>&& s) { on_ises(k, *s); });
-    create_subscription<tsdf::MapUpdate>(prefix + "map", {.depth = 1},
-                                         [this, k](Sample<tsdf::MapUpdate>&& s) { on_map(k, *s); });
+    if (maps)
+      create_subscription<tsdf::MapUpdate>(
+          prefix + "map", {.depth = 1}, [this, k](Sample<tsdf::MapUpdate>&& s) { on_map(k, *s); });
   }
   create_timer(std::chrono::nanoseconds(std::llround(config_.path_period_s * 1e9)),
                [this] { on_path_tick(); });
-  if (truth_)
+  if (truth_ && maps)
     create_timer(std::chrono::nanoseconds(std::llround(config_.coverage_period_s * 1e9)),
                  [this] { on_coverage_tick(); });
   return {};
@@ -134,17 +137,36 @@ void MissionMonitor::on_pose(size_t robot, const msg::Odometry& odom) {
 
 void MissionMonitor::on_state(size_t robot, const msg::RobotState& state) {
   const double t = now_s();
-  const std::lock_guard lock(mutex_);
-  RobotProgress& r = robots_[robot];
-  if (state.mode == Mode::kPlanning && (!r.have_state || r.mode != Mode::kPlanning))
-    ++r.planning_requests;
-  r.mode = state.mode;
-  r.have_state = true;
-  const bool idle = state.mode == Mode::kIdle || state.mode == Mode::kDone;
-  if (!idle)
-    idle_since_s_[robot] = -1.0;
-  else if (idle_since_s_[robot] < 0)
-    idle_since_s_[robot] = t;
+  bool lost_or_back = false;
+  {
+    const std::lock_guard lock(mutex_);
+    RobotProgress& r = robots_[robot];
+    if (state.mode == Mode::kPlanning && (!r.have_state || r.mode != Mode::kPlanning))
+      ++r.planning_requests;
+    const bool was_lost = r.have_state && r.mode == Mode::kLost;
+    const bool lost = state.mode == Mode::kLost;
+    lost_or_back = lost != was_lost;
+    if (lost && !was_lost) {
+      last_lost_s_ = t;
+      SCANCREW_LOG_WARN(
+          "%s: robot %u (%s) lost at %.1f s: left out of the completion and stall tests until "
+          "it reports again",
+          qualified_name().c_str(), r.id, r.ns.c_str(), t);
+    } else if (was_lost && !lost) {
+      all_lost_logged_ = false;
+      SCANCREW_LOG_INFO("%s: robot %u (%s) back at %.1f s", qualified_name().c_str(), r.id,
+                        r.ns.c_str(), t);
+    }
+    r.mode = state.mode;
+    r.have_state = true;
+    const bool idle = state.mode == Mode::kIdle || state.mode == Mode::kDone;
+    if (!idle)
+      idle_since_s_[robot] = -1.0;
+    else if (idle_since_s_[robot] < 0)
+      idle_since_s_[robot] = t;
+  }
+  // losing a robot may complete the mission (the others' sources are complete)
+  if (lost_or_back) check_finished();
 }
 
 void MissionMonitor::on_ises(size_t source, const msg::IseSet& ises) {
@@ -221,23 +243,45 @@ void MissionMonitor::check_finished() {
   const double t = now_s();
   const std::lock_guard lock(mutex_);
   if (!stop_reason_.empty()) return;
-  bool all_complete = true;
-  for (const Source& s : sources_) all_complete = all_complete && s.complete;
+  const auto lost = [this](size_t i) {
+    return robots_[i].have_state && robots_[i].mode == Mode::kLost;
+  };
+  size_t lost_count = 0;
+  for (size_t i = 0; i < robots_.size(); ++i) lost_count += lost(i) ? 1 : 0;
+  const bool all_lost = lost_count == robots_.size();
+  if (all_lost && !all_lost_logged_) {
+    all_lost_logged_ = true;
+    SCANCREW_LOG_WARN("%s: every robot lost at %.1f s: the mission is not complete%s",
+                      qualified_name().c_str(), t,
+                      config_.stall_timeout_s > 0 ? "; it stalls unless one comes back" : "");
+  }
+  // per-robot sources (per_robot, none): a lost robot's source is left out; the shared one
+  // decides alone
+  const bool per_robot = config_.maps != "shared";
+  bool all_complete = !(per_robot && all_lost);
+  for (size_t k = 0; k < sources_.size(); ++k)
+    if (!(per_robot && lost(k))) all_complete = all_complete && sources_[k].complete;
   if (all_complete && config_.stop_when_complete) {
     completion_time_s_ = t;
     stop_reason_ = "complete";
-    SCANCREW_LOG_INFO("%s: mission complete at %.1f s (every ISE source reports C_ins empty)",
-                      qualified_name().c_str(), t);
+    SCANCREW_LOG_INFO("%s: mission complete at %.1f s (every ISE source reports C_ins empty%s)",
+                      qualified_name().c_str(), t,
+                      per_robot && lost_count > 0 ? ", lost robots left out" : "");
     return;
   }
   if (config_.stall_timeout_s <= 0) return;
   bool all_idle = true;
   for (size_t i = 0; i < robots_.size(); ++i)
-    all_idle = all_idle && idle_since_s_[i] >= 0 && t - idle_since_s_[i] >= config_.stall_timeout_s;
+    all_idle =
+        all_idle &&
+        (lost(i) || (idle_since_s_[i] >= 0 && t - idle_since_s_[i] >= config_.stall_timeout_s));
+  if (all_lost) all_idle = t - last_lost_s_ >= config_.stall_timeout_s;
   if (all_idle) {
     stop_reason_ = "stalled";
-    SCANCREW_LOG_WARN("%s: mission stalled at %.1f s: every robot idle for %.0f s with ISEs left",
-                      qualified_name().c_str(), t, config_.stall_timeout_s);
+    SCANCREW_LOG_WARN("%s: mission stalled at %.1f s: every robot %s for %.0f s with ISEs left",
+                      qualified_name().c_str(), t,
+                      all_lost ? "lost" : (lost_count > 0 ? "idle or lost" : "idle"),
+                      config_.stall_timeout_s);
   }
 }
 

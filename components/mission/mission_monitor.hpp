@@ -7,15 +7,25 @@
 // its state (msg::RobotState from the low-level planner) and how often it asked to replan.
 //
 // The mission is complete (thesis 2.4: the ISE stopping criterion) when every ISE source —
-// each robot's ise_extractor (maps: per_robot) or the station's (shared) — reports
+// each robot's ise_extractor (maps: per_robot, none) or the station's (shared) — reports
 // `complete` (C_ins empty over its consecutive updates); the completion time is the sim
 // time of the last of them. It is stalled when no source is complete but every robot has
 // been idle or done for stall_timeout_s (nothing left it can reach). finished() then turns
 // true, with the reason; the caller stops the launch (Launch::run's stop_when).
 //
+// Lost robots: a robot whose latest state is kLost (the dds_bridge reports a teammate whose
+// process died) is left out of both tests: with per-robot sources the mission is complete
+// when every robot not lost reports complete, and a lost robot does not keep "every robot
+// idle" from holding. With every robot lost the mission is not complete (logged once); it
+// stalls once the last of them has been lost for stall_timeout_s. A robot that publishes a
+// state other than kLost again counts again. (maps: shared: the one source decides, as
+// before.)
+//
 // Inputs, per robot ns: /<ns>/pose_gt, /<ns>/robot_state, and /<ns>/map, /<ns>/ises
-// (maps: per_robot) or /map, /ises (maps: shared).
-// Parameters: scene ("" = no coverage estimate), coverage_density_per_m2,
+// (maps: per_robot), /<ns>/ises only (maps: none: a process that cannot see the robots'
+// maps, such as a team's simulator process; MapUpdate does not cross processes, so the
+// coverage stays "not measured", -1) or /map, /ises (maps: shared).
+// Parameters: scene ("" or maps: none = no coverage estimate), coverage_density_per_m2,
 // coverage_truncation_share, coverage_period_s, path_period_s, maps, stop_when_complete,
 // stall_timeout_s, eval_density_per_m2 (for the final evaluation of the mesh by the caller).
 
@@ -46,7 +56,8 @@ class MissionMonitor final : public Component {
     double coverage_truncation_share = 0.99;  // surface_coverage.hpp
     double coverage_period_s = 5.0;
     double path_period_s = 0.5;
-    std::string maps = "per_robot";  // per_robot | shared (centralized: the station's map)
+    // per_robot | shared (centralized: the station's map) | none (per-robot ISEs, no maps)
+    std::string maps = "per_robot";
     bool stop_when_complete = true;
     double stall_timeout_s = 60.0;        // 0: never stop for a stall
     double eval_density_per_m2 = 2000.0;  // the final mesh evaluation (scancrew run --out)
@@ -104,10 +115,12 @@ class MissionMonitor final : public Component {
   std::optional<mission::SurfaceCoverage> truth_;
   mutable std::mutex mutex_;
   std::vector<RobotProgress> robots_;
-  std::vector<Source> sources_;  // one per robot (per_robot) or one (shared)
+  std::vector<Source> sources_;  // one per robot (per_robot, none) or one (shared)
   std::vector<msg::Odometry> last_pose_;
   std::vector<bool> have_pose_;
   std::vector<double> idle_since_s_;  // < 0: not idle
+  double last_lost_s_ = -1;           // when the latest robot was lost (< 0: none yet)
+  bool all_lost_logged_ = false;
   std::vector<mission::PathSample> paths_;
   std::vector<mission::CoverageSample> coverage_;
   std::string stop_reason_;

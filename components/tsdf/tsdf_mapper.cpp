@@ -109,6 +109,11 @@ Result<void, std::string> TsdfMapper::on_configure() {
           teammates_[i].position = msg::to_eigen(s->T_world_body.position);
           teammates_[i].has_position = true;
         });
+    // the latest state is all that counts (lost or not); depth 1 holds one slot of the
+    // low-level planner's small pool at most
+    create_subscription<msg::RobotState>(
+        ns + "robot_state", {.depth = 1},
+        [this, i](Sample<msg::RobotState>&& s) { on_teammate_state(i, *s); });
   }
   const auto period = std::chrono::nanoseconds(
       std::llround(std::min(config_.request_delay_s, config_.request_retry_s) * 0.5e9 + 1e7));
@@ -342,7 +347,8 @@ void TsdfMapper::on_request(const msg::PatchRequest& request) {
     double best = (position_of(robot_id()) - asker).norm();
     bool mine = true;
     for (const Teammate& t : teammates_) {
-      if (t.id == request.from_robot || !t.holds.contains(id) || !t.has_position) continue;
+      if (t.id == request.from_robot || t.lost || !t.holds.contains(id) || !t.has_position)
+        continue;
       const double d = (t.position - asker).norm();
       if (d < best || (d == best && t.id < robot_id())) {
         mine = false;
@@ -356,6 +362,16 @@ void TsdfMapper::on_request(const msg::PatchRequest& request) {
       ++stats_.replies_sent;
     }
   }
+}
+
+void TsdfMapper::on_teammate_state(size_t teammate, const msg::RobotState& state) {
+  Teammate& t = teammates_[teammate];
+  const bool lost = state.mode == msg::RobotState::Mode::kLost;
+  if (lost == t.lost) return;
+  t.lost = lost;
+  SCANCREW_LOG_INFO("%s: robot %u %s", qualified_name().c_str(), t.id,
+                    lost ? "lost: no longer counted as a holder of patches"
+                         : "back: counted as a holder of patches again");
 }
 
 void TsdfMapper::publish_list() {

@@ -15,7 +15,10 @@
 //                public map. An ID seen in a teammate's list but never received is asked
 //                for on `patch_request` after request_delay_s (again every
 //                request_retry_s); of the robots that hold it, the nearest to the asker
-//                replies on `patch_reply`. The current patch is never shared.
+//                replies on `patch_reply`. The current patch is never shared. A teammate
+//                whose "/<ns>/robot_state" reports kLost (the dds_bridge's word for a dead
+//                process) is no holder: the nearest live one replies, so a lost robot's
+//                patches stay recoverable from the others; any later state brings it back.
 //   The global estimate (what the snapshots show) = private + public patches fused
 //   (weights summed, distances weight-averaged: patch_codec's fusion), plus the current
 //   patch. Own patches are fused as decoded from their wire form, like the teammates'
@@ -111,6 +114,7 @@ class TsdfMapper final : public Component {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     bool has_position = false;
     std::set<uint64_t> holds;  // from its last patch list
+    bool lost = false;         // its latest robot_state is kLost
   };
 
   Result<void, std::string> on_configure() override;
@@ -121,6 +125,7 @@ class TsdfMapper final : public Component {
   void on_patch(const msg::TsdfPatch& patch);
   void on_patch_list(uint32_t from, const msg::PatchList& list);
   void on_request(const msg::PatchRequest& request);
+  void on_teammate_state(size_t teammate, const msg::RobotState& state);
   void check_missing();
   void publish_list();
   void publish_snapshot(int64_t stamp_ns);

@@ -162,35 +162,66 @@ void HighLevelPlanner::on_clusters(const msg::ViewpointClusters& clusters) {
   plan(stamp, std::nullopt);
 }
 
+bool HighLevelPlanner::lost(size_t member) const {
+  // a per-robot instance's own robot runs it: never lost to it
+  return members_[member].mode == msg::RobotState::Mode::kLost &&
+         !(per_robot_ && members_[member].id == robot_id());
+}
+
 void HighLevelPlanner::on_robot_state(size_t member, const msg::RobotState& state) {
-  const msg::RobotState::Mode before = members_[member].mode;
+  using Mode = msg::RobotState::Mode;
+  const bool was_lost = lost(member);
+  const Mode before = members_[member].mode;
   members_[member].mode = state.mode;
+  // a kLost state is the bridge's word for a dead process: its pose means nothing
   const msg::Vec3& p = state.T_world_body.position;
-  if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
+  if (state.mode != Mode::kLost && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
     members_[member].position = vec(p);
     const double yaw = yaw_of(state.T_world_body.orientation);
     if (std::isfinite(yaw)) members_[member].yaw_rad = yaw;
   }
+  if (lost(member) != was_lost) {
+    SCANCREW_LOG_INFO("%s: robot %u %s", qualified_name().c_str(), members_[member].id,
+                      was_lost ? "is back: planned for again"
+                               : "lost: left out of the plans, its clusters go to the others");
+    // every instance plans for the whole team (dist_tsga: each keeps its own sequence of
+    // the same allocation), so each re-plans, whoever's robot it is
+    if (!clusters_) return;
+    ++stats_.lost_replans;
+    plan(state.header.stamp_ns, std::nullopt);
+    return;
+  }
   if (!clusters_ || state.mode == before) return;
   // only the robots this instance plans for: all (centralized) or its own (per robot)
   if (per_robot_ && members_[member].id != robot_id()) return;
-  if (state.mode == msg::RobotState::Mode::kPlanning) {
+  if (state.mode == Mode::kPlanning) {
     plan(state.header.stamp_ns, std::nullopt);
-  } else if (state.mode == msg::RobotState::Mode::kIdle) {
+  } else if (state.mode == Mode::kIdle) {
     const bool realloc = config_.algorithm == "tsga";
     plan(state.header.stamp_ns, realloc ? std::optional<size_t>(member) : std::nullopt);
   }
 }
 
+std::vector<size_t> HighLevelPlanner::plan_members() const {
+  std::vector<size_t> active;
+  active.reserve(members_.size());
+  for (size_t i = 0; i < members_.size(); ++i)
+    if (!lost(i)) active.push_back(i);
+  return active;
+}
+
 std::vector<PlanRobot> HighLevelPlanner::plan_robots() const {
+  const std::vector<size_t> active = plan_members();
   std::vector<PlanRobot> robots;
-  robots.reserve(members_.size());
-  for (const Member& m : members_)
+  robots.reserve(active.size());
+  for (size_t i : active) {
+    const Member& m = members_[i];
     robots.push_back({.id = m.id,
                       .type_bit = m.type_bit,
                       .position = m.position,
                       .lambda_tc_per_m = m.penalties.lambda_tc_per_m,
                       .lambda_ic_per_m = m.penalties.lambda_ic_per_m});
+  }
   return robots;
 }
 
@@ -244,15 +275,25 @@ PlannerOptions HighLevelPlanner::plan_options() {
 void HighLevelPlanner::plan(int64_t stamp_ns, std::optional<size_t> idle) {
   if (!clusters_) return;
   const auto start = std::chrono::steady_clock::now();
+  // the members planned for (lost ones left out) and their PlanRobots, in the same order
+  const std::vector<size_t> active = plan_members();
+  if (active.empty()) {
+    warn_once("all_lost", "every robot of the team is lost: nothing to plan until one is back");
+    return;
+  }
   const std::vector<PlanRobot> robots = plan_robots();
   const PlannerOptions options = plan_options();
   TeamPlan next = last_;
   if (idle) {
+    const auto at = std::find(active.begin(), active.end(), *idle);
+    if (at == active.end()) return;  // (a lost robot is not idle)
+    // the clusters the others hold: a lost robot holds none
     std::vector<uint32_t> held;
-    for (size_t k = 0; k < last_.robots.size(); ++k)
+    for (size_t k : active)
       if (k != *idle)
         held.insert(held.end(), last_.robots[k].clusters.begin(), last_.robots[k].clusters.end());
-    auto mine = plan_for_idle(robots[*idle], plan_clusters_, held, options);
+    auto mine = plan_for_idle(robots[static_cast<size_t>(at - active.begin())], plan_clusters_,
+                              held, options);
     if (!mine) return fail_once("clusters", mine.error());
     next.robots[*idle] = std::move(mine).value();
     ++stats_.reallocations;
@@ -260,7 +301,10 @@ void HighLevelPlanner::plan(int64_t stamp_ns, std::optional<size_t> idle) {
     auto team = config_.algorithm == "nnb" ? plan_nnb(robots, plan_clusters_, options)
                                            : plan_tsga(robots, plan_clusters_, options);
     if (!team) return fail_once("clusters", team.error());
-    next = std::move(team).value();
+    // back to one RobotPlan per member: a lost member's is empty
+    next.unassigned = std::move(team->unassigned);
+    for (size_t k = 0; k < members_.size(); ++k) next.robots[k] = {.robot_id = members_[k].id};
+    for (size_t j = 0; j < active.size(); ++j) next.robots[active[j]] = std::move(team->robots[j]);
   }
   last_ = std::move(next);
   last_plan_stamp_ns_ = stamp_ns;

@@ -21,7 +21,14 @@
 //     robot gets the clusters no teammate holds (plan_for_idle); centralized tsga only, as
 //     in the thesis; dist_tsga replans the whole allocation instead;
 //   mode kPlanning (the low-level planner asks for an update, Algorithms 1/3/6): a new plan
-//     from the latest clusters at once.
+//     from the latest clusters at once;
+//   mode kLost (the dds_bridge's word for a teammate whose process died): the member is left
+//     out of the plans (plan_robots(): no tour, an empty sequence in the TeamPlan) and the
+//     whole team is re-planned at once, its clusters going to the others; every instance
+//     does so (dist_tsga: each plans for the team and keeps its own sequence, so they stay
+//     in agreement). Any other state after kLost brings it back, with a re-plan of the team.
+//     A per-robot instance never counts its own robot lost. With every robot lost nothing
+//     is planned (logged once).
 // min_replan_period_s (sim time, from the message stamps) bounds how often cluster updates
 // are planned; requests and idle robots are served at once.
 //
@@ -97,6 +104,7 @@ class HighLevelPlanner final : public Component {
   struct Stats {
     uint64_t plans = 0;          // published
     uint64_t reallocations = 0;  // to idle robots
+    uint64_t lost_replans = 0;   // re-plans for a member lost or back
     uint64_t skipped = 0;        // updates refused (bad input) or throttled
     double mean_ms = 0, max_ms = 0;
     // inter_cluster_distance: roadmap
@@ -120,8 +128,13 @@ class HighLevelPlanner final : public Component {
   void on_deactivate() override;
   void on_clusters(const msg::ViewpointClusters& clusters);
   void on_robot_state(size_t member, const msg::RobotState& state);
+  // Whether the member's latest state is kLost (never this per-robot instance's own robot).
+  bool lost(size_t member) const;
   // Plans from the latest clusters and publishes; `idle`: reallocate to that member only.
   void plan(int64_t stamp_ns, std::optional<size_t> idle);
+  // The members planned for (those not lost), in member order, and their PlanRobots in the
+  // same order (TeamPlan::robots of a plan follows it; last_ is indexed by member).
+  std::vector<size_t> plan_members() const;
   std::vector<PlanRobot> plan_robots() const;
   // The configured options, with the memoised roadmap distance when it is chosen and a map
   // has come.

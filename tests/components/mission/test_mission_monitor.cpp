@@ -1,7 +1,9 @@
 // The mission_monitor component on sim time with the step executor, fed by a scripted
 // component (poses, robot states, ISE sets at chosen times): path lengths and samples,
 // replanning requests, completion when every ISE source reports complete (the launch stops
-// there through its stop condition), a stall when every robot idles, bad configuration.
+// there through its stop condition), a stall when every robot idles, bad configuration;
+// maps: none (per-robot ISEs, no maps) and lost robots (kLost states, as the dds_bridge
+// publishes them) left out of the completion and stall tests until they come back.
 
 #include <gtest/gtest.h>
 
@@ -76,10 +78,16 @@ class Feeder final : public Component {
 };
 SCANCREW_REGISTER_COMPONENT(Feeder, "test_mission_feeder")
 
-std::string launch_text(const std::string& monitor_params, double duration_s = 60) {
+constexpr const char* kTwoRobots = "  - {id: 1, namespace: r1}\n  - {id: 2, namespace: r2}\n";
+constexpr const char* kThreeRobots =
+    "  - {id: 1, namespace: r1}\n  - {id: 2, namespace: r2}\n  - {id: 3, namespace: r3}\n";
+
+std::string launch_text(const std::string& monitor_params, double duration_s = 60,
+                        const std::string& robots = kTwoRobots) {
   return "clock: sim\nexecutor: {type: step}\nrun: {duration_s: " + std::to_string(duration_s) +
          ", sim_step_s: 0.1}\n"
-         "robots:\n  - {id: 1, namespace: r1}\n  - {id: 2, namespace: r2}\n"
+         "robots:\n" +
+         robots +
          "components:\n"
          "  - {name: feeder, type: test_mission_feeder, per_robot: false}\n"
          "  - {name: monitor, type: mission_monitor, per_robot: false, params: {" +
@@ -190,6 +198,142 @@ TEST(MissionMonitor, BadConfigurationIsRefusedNamingTheCause) {
       "clock: sim\nexecutor: {type: step}\ncomponents:\n"
       "  - {name: monitor, type: mission_monitor, per_robot: false}\n";
   EXPECT_FALSE(Launch::from_string(no_robots, "m.yaml").has_value());
+}
+
+// maps: none (a simulator process that cannot see the robots' maps): one ISE source per
+// robot, no coverage; robot 3 is lost (the dds_bridge's kLost on /r3/robot_state) and the
+// mission completes when robots 1 and 2 do.
+TEST(MissionMonitor, ALostRobotIsLeftOutOfTheCompletionTest) {
+  g_script = {};
+  g_script.ises = {{1.0, 0, 40, false},
+                   {1.0, 1, 40, false},
+                   {1.0, 2, 40, false},
+                   {5.0, 0, 0, true},
+                   {6.0, 1, 0, true}};
+  g_script.states = {{0.5, 2, Mode::kMoving}, {2.0, 2, Mode::kLost}};
+  auto launch = make_launch(launch_text("maps: none, stall_timeout_s: 0", 30, kThreeRobots));
+  ASSERT_TRUE(launch);
+  const auto* monitor = launch->find_component<MissionMonitor>();
+  ASSERT_NE(monitor, nullptr);
+  EXPECT_EQ(monitor->config().maps, "none");
+  launch->set_stop_condition([monitor] { return monitor->finished(); });
+  const double ran = launch->run();
+  EXPECT_EQ(monitor->stop_reason(), "complete");
+  ASSERT_TRUE(monitor->completion_time_s().has_value());
+  EXPECT_NEAR(*monitor->completion_time_s(), 6.0, 0.11);
+  EXPECT_LT(ran, 6.5);
+  const auto robots = monitor->robots();
+  ASSERT_EQ(robots.size(), 3u);
+  EXPECT_EQ(robots[2].mode, Mode::kLost);
+  EXPECT_FALSE(robots[2].complete);
+  EXPECT_EQ(robots[2].ises_left, 40u);  // per-robot sources: robot 3's own, not the others'
+  for (const auto& r : robots) EXPECT_LT(r.coverage, 0);  // maps: none: not measured
+  EXPECT_TRUE(monitor->coverage().empty());
+  EXPECT_NE(monitor->status_line().find("r3 lost"), std::string::npos) << monitor->status_line();
+}
+
+TEST(MissionMonitor, WithoutTheLostStateEveryRobotMustComplete) {
+  g_script = {};
+  g_script.ises = {{1.0, 0, 40, false}, {1.0, 1, 40, false}, {1.0, 2, 40, false},
+                   {5.0, 0, 0, true},   {6.0, 1, 0, true},   {9.0, 2, 0, true}};
+  g_script.states = {{0.5, 2, Mode::kMoving}};
+  auto launch = make_launch(launch_text("maps: none, stall_timeout_s: 0", 30, kThreeRobots));
+  ASSERT_TRUE(launch);
+  const auto* monitor = launch->find_component<MissionMonitor>();
+  ASSERT_NE(monitor, nullptr);
+  launch->set_stop_condition([monitor] { return monitor->finished(); });
+  const double ran = launch->run();
+  EXPECT_EQ(monitor->stop_reason(), "complete");
+  ASSERT_TRUE(monitor->completion_time_s().has_value());
+  EXPECT_NEAR(*monitor->completion_time_s(), 9.0, 0.11);  // not at 6 s: robot 3 was not done
+  EXPECT_GT(ran, 8.9);
+  EXPECT_LT(ran, 9.5);
+}
+
+TEST(MissionMonitor, ARobotThatComesBackCountsAgain) {
+  g_script = {};
+  g_script.ises = {{1.0, 0, 40, false}, {1.0, 1, 40, false}, {1.0, 2, 40, false},
+                   {5.0, 0, 0, true},   {6.0, 1, 0, true},   {9.0, 2, 0, true}};
+  // lost at 2 s, back (moving) at 4 s: before robots 1 and 2 complete
+  g_script.states = {{0.5, 2, Mode::kMoving}, {2.0, 2, Mode::kLost}, {4.0, 2, Mode::kMoving}};
+  auto launch = make_launch(launch_text("maps: none, stall_timeout_s: 0", 30, kThreeRobots));
+  ASSERT_TRUE(launch);
+  const auto* monitor = launch->find_component<MissionMonitor>();
+  ASSERT_NE(monitor, nullptr);
+  launch->set_stop_condition([monitor] { return monitor->finished(); });
+  launch->run();
+  EXPECT_EQ(monitor->stop_reason(), "complete");
+  ASSERT_TRUE(monitor->completion_time_s().has_value());
+  EXPECT_NEAR(*monitor->completion_time_s(), 9.0, 0.11);
+  EXPECT_EQ(monitor->robots()[2].mode, Mode::kMoving);
+}
+
+TEST(MissionMonitor, LosingTheLastIncompleteRobotCompletesTheMissionAtOnce) {
+  g_script = {};
+  g_script.ises = {{1.0, 0, 0, true}, {1.0, 1, 0, true}, {1.0, 2, 12, false}};
+  g_script.states = {{0.5, 2, Mode::kMoving}, {7.0, 2, Mode::kLost}};
+  auto launch = make_launch(
+      launch_text("maps: none, stall_timeout_s: 0, path_period_s: 5", 30, kThreeRobots));
+  ASSERT_TRUE(launch);
+  const auto* monitor = launch->find_component<MissionMonitor>();
+  ASSERT_NE(monitor, nullptr);
+  launch->set_stop_condition([monitor] { return monitor->finished(); });
+  launch->run();
+  EXPECT_EQ(monitor->stop_reason(), "complete");
+  ASSERT_TRUE(monitor->completion_time_s().has_value());
+  // decided on the state itself, not at the next path tick (10 s)
+  EXPECT_NEAR(*monitor->completion_time_s(), 7.0, 0.11);
+}
+
+TEST(MissionMonitor, EveryRobotLostIsNotCompleteButStalls) {
+  g_script = {};
+  g_script.ises = {{1.0, 0, 0, true}, {1.0, 1, 5, false}, {1.0, 2, 5, false}};
+  g_script.states = {{2.0, 0, Mode::kLost}, {3.0, 1, Mode::kLost}, {4.0, 2, Mode::kLost}};
+  {
+    auto launch = make_launch(launch_text("maps: none, stall_timeout_s: 0", 20, kThreeRobots));
+    ASSERT_TRUE(launch);
+    const auto* monitor = launch->find_component<MissionMonitor>();
+    ASSERT_NE(monitor, nullptr);
+    launch->set_stop_condition([monitor] { return monitor->finished(); });
+    EXPECT_NEAR(launch->run(), 20.0, 1e-6);
+    EXPECT_FALSE(monitor->finished());
+    EXPECT_EQ(monitor->stop_reason(), "");
+    EXPECT_FALSE(monitor->completion_time_s().has_value());
+  }
+  auto launch = make_launch(launch_text("maps: none, stall_timeout_s: 10", 60, kThreeRobots));
+  ASSERT_TRUE(launch);
+  const auto* monitor = launch->find_component<MissionMonitor>();
+  ASSERT_NE(monitor, nullptr);
+  launch->set_stop_condition([monitor] { return monitor->finished(); });
+  const double ran = launch->run();
+  EXPECT_EQ(monitor->stop_reason(), "stalled");
+  EXPECT_FALSE(monitor->completion_time_s().has_value());
+  EXPECT_NEAR(ran, 14.0, 0.6);  // the last robot lost at 4 s, 10 s timeout
+}
+
+TEST(MissionMonitor, ALostRobotDoesNotKeepTheOthersFromStalling) {
+  g_script = {};
+  g_script.ises = {{1.0, 0, 9, false}, {1.0, 1, 9, false}, {1.0, 2, 9, false}};
+  g_script.states = {{1.0, 0, Mode::kIdle}, {1.0, 1, Mode::kIdle}, {1.0, 2, Mode::kMoving}};
+  {
+    // robot 3 moving: no stall
+    auto launch = make_launch(launch_text("maps: none, stall_timeout_s: 10", 30, kThreeRobots));
+    ASSERT_TRUE(launch);
+    const auto* monitor = launch->find_component<MissionMonitor>();
+    ASSERT_NE(monitor, nullptr);
+    launch->set_stop_condition([monitor] { return monitor->finished(); });
+    EXPECT_NEAR(launch->run(), 30.0, 1e-6);
+    EXPECT_FALSE(monitor->finished());
+  }
+  g_script.states.emplace_back(3.0, 2, Mode::kLost);
+  auto launch = make_launch(launch_text("maps: none, stall_timeout_s: 10", 30, kThreeRobots));
+  ASSERT_TRUE(launch);
+  const auto* monitor = launch->find_component<MissionMonitor>();
+  ASSERT_NE(monitor, nullptr);
+  launch->set_stop_condition([monitor] { return monitor->finished(); });
+  const double ran = launch->run();
+  EXPECT_EQ(monitor->stop_reason(), "stalled");
+  EXPECT_NEAR(ran, 11.0, 0.6);  // robots 1 and 2 idle since 1 s
 }
 
 }  // namespace

@@ -1,12 +1,14 @@
 // The tsdf_mapper component on the sim backend (ground-truth depth, sim time): single,
 // centralized and distributed modes; fusing patches equals integrating every frame into
-// one map; a lost patch is recovered by request; a corrupt one is refused, then recovered.
+// one map; a lost patch is recovered by request; a corrupt one is refused, then recovered;
+// a lost teammate (kLost on its robot_state) is no holder: the nearest live one replies.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
+#include "components/tsdf/patch_codec.hpp"
 #include "components/tsdf/tsdf_mapper.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
@@ -243,6 +245,131 @@ TEST(TsdfMapper, ACorruptPatchIsRefusedThenRecovered) {
   EXPECT_EQ(d.missing, 0u);
   EXPECT_EQ(d.state_differs, 0u);
   EXPECT_LT(d.max_distance, 1e-5);
+}
+
+// Robot 2's mapper alone (a robot process), its teammates scripted: robot 3 sends patch P
+// (so robot 2 holds it) and lists it; robot 1 (at x = 10) asks for P at 1 s, 2 s and 3 s;
+// robot 3 (at x = 9) is nearer to it than robot 2 (at the origin); it is lost at 1.5 s and
+// back at 2.5 s. Robot 2's replies are logged.
+class HolderScript final : public Component {
+ public:
+  static constexpr std::string_view kDescription = "test: robots 1 and 3 around robot 2's mapper";
+  struct Config {};
+  static Config read_config(ParamReader& /*p*/) { return {}; }
+  HolderScript(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
+  static uint64_t patch() { return make_patch_id(3, 0); }
+  std::vector<double> replies_s;  // robot 2's replies with P, sim seconds
+
+ private:
+  Result<void, std::string> on_configure() override {
+    pose1_ = create_publisher<msg::Odometry>("/r1/pose_gt");
+    pose3_ = create_publisher<msg::Odometry>("/r3/pose_gt");
+    patch3_ = create_publisher<msg::TsdfPatch>("/r3/patch");
+    list3_ = create_publisher<msg::PatchList>("/r3/patch_list");
+    state3_ = create_publisher<msg::RobotState>("/r3/robot_state");
+    request1_ = create_publisher<msg::PatchRequest>("/r1/patch_request");
+    create_subscription<msg::TsdfPatch>(
+        "/r2/patch_reply", {.depth = 8}, [this](Sample<msg::TsdfPatch>&& s) {
+          if (s->patch_id == patch())
+            replies_s.push_back(static_cast<double>(clock().now_ns()) * 1e-9);
+        });
+    create_timer(std::chrono::milliseconds(100), [this] { tick(); });
+    return {};
+  }
+  void pose(Publisher<msg::Odometry>& pub, double x) {
+    if (auto loan = pub.loan()) {
+      **loan = msg::Odometry{};
+      (*loan)->T_world_body.position.x = x;
+      (*loan)->tracking_quality = 1;
+      (void)pub.publish(std::move(*loan));
+    }
+  }
+  void state(msg::RobotState::Mode mode) {
+    if (auto loan = state3_.loan()) {
+      **loan = msg::RobotState{};
+      (*loan)->header.robot_id = 3;
+      (*loan)->mode = mode;
+      (void)state3_.publish(std::move(*loan));
+    }
+  }
+  void tick() {
+    const int step = ticks_++;  // at (step + 1) · 0.1 s
+    if (step == 0) {
+      pose(pose1_, 10.0);
+      pose(pose3_, 9.0);
+      state(msg::RobotState::Mode::kMoving);
+    } else if (step == 1) {
+      TsdfConfig config;
+      config.voxel_m = 0.1;
+      config.truncation_m = 0.3;
+      config.max_weight = 100000;
+      TsdfMap map(config);
+      map.touch(BlockIndex(0, 0, 0)).at(1, 2, 3) = Voxel{.distance_m = 0.05f, .weight = 2.0f};
+      if (auto loan = patch3_.loan()) {
+        **loan = msg::TsdfPatch{};
+        (*loan)->patch_id = patch();
+        (*loan)->robot_id = 3;
+        (*loan)->index = 0;
+        (*loan)->T_world_patch.orientation.w = 1;
+        if (encode_patch(map.blocks(), config, **loan)) (void)patch3_.publish(std::move(*loan));
+      }
+    } else if (step == 2) {
+      if (auto loan = list3_.loan()) {
+        (*loan)->patch_ids = {patch()};
+        (void)list3_.publish(std::move(*loan));
+      }
+    } else if (step == 14) {
+      state(msg::RobotState::Mode::kLost);
+    } else if (step == 24) {
+      state(msg::RobotState::Mode::kMoving);
+    } else if (step == 9 || step == 19 || step == 29) {
+      if (auto loan = request1_.loan()) {
+        (*loan)->from_robot = 1;
+        (*loan)->patch_ids = {patch()};
+        (void)request1_.publish(std::move(*loan));
+      }
+    }
+  }
+  int ticks_ = 0;
+  Publisher<msg::Odometry> pose1_, pose3_;
+  Publisher<msg::TsdfPatch> patch3_;
+  Publisher<msg::PatchList> list3_;
+  Publisher<msg::RobotState> state3_;
+  Publisher<msg::PatchRequest> request1_;
+};
+SCANCREW_REGISTER_COMPONENT(HolderScript, "test_patch_holder_script")
+
+TEST(TsdfMapper, ALostTeammateIsNoHolderTheNearestLiveOneReplies) {
+  const std::string text = std::string(R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: 3.5, sim_step_s: 0.05}
+robots:
+  - {id: 1, namespace: r1, kind: ground, start: [10, 0, 0, 0]}
+  - {id: 2, namespace: r2, kind: ground, start: [0, 0, 0, 0]}
+  - {id: 3, namespace: r3, kind: ground, start: [9, 0, 0, 0]}
+components:
+  - {name: script, type: test_patch_holder_script, per_robot: false, process: robot}
+  - name: mapper
+    type: tsdf_mapper
+    params: {mode: distributed, request_delay_s: 0.5, request_retry_s: 1.0, )") +
+                           kMapParams + "}\n";
+  auto launch = Launch::from_string(text, "tsdf_mapper_lost.yaml",
+                                    LaunchOptions{.process = "robot", .robot_id = 2});
+  ASSERT_TRUE(launch) << launch.error().front();
+  (*launch)->run();
+  auto m = mappers(**launch);
+  ASSERT_EQ(m.size(), 1u);  // robot 2's only
+  EXPECT_EQ(m[0]->stats().patches_received, 1u);
+  EXPECT_EQ(m[0]->held_patches(), std::vector<uint64_t>{HolderScript::patch()});
+  const auto* script = (*launch)->find_component<HolderScript>();
+  ASSERT_NE(script, nullptr);
+  // 1 s: robot 3 holds P and is nearer to robot 1: robot 2 is silent; 2 s: robot 3 lost,
+  // robot 2 replies; 3 s: robot 3 back: silent again
+  ASSERT_EQ(script->replies_s.size(), 1u);
+  EXPECT_GT(script->replies_s[0], 1.95);
+  EXPECT_LT(script->replies_s[0], 2.5);
+  EXPECT_EQ(m[0]->stats().replies_sent, 1u);
 }
 
 TEST(TsdfMapper, ACentralizedMapperIntegratesEveryRobot) {
