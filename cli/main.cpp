@@ -1,5 +1,6 @@
-// scancrew: the command line. Subcommands: run, sweep, components, graph, render, groundtruth,
-// eval, report, bench (ipc, sim, perception, tsdf, ise, tsp, planner, pipeline).
+// scancrew: the command line. Subcommands: run, sim, robot, station, sweep, components, graph,
+// render, groundtruth, eval, report, bench (ipc, sim, perception, tsdf, ise, tsp, planner,
+// pipeline).
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -86,6 +87,32 @@ int main(int argc, char** argv) {
   run->add_option("--trace-events", run_options.trace_events,
                   "missions: callbacks kept for trace.json (24 bytes each; 0: no tracing)")
       ->capture_default_str();
+
+  // one process of a team split over processes (docs/processes.md)
+  scancrew::cli::RunOptions part_options;
+  const auto add_part = [&](const char* name, const char* what) {
+    auto* cmd = app.add_subcommand(name, what);
+    cmd->add_option("launch", part_options.launch_path, "launch file (YAML)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--out", part_options.out_dir,
+                    "run directory, the same for every process of the team ({out})");
+    cmd->add_option("--set", part_options.sets, "override a parameter: name.key=value")
+        ->expected(1)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    cmd->add_option("--robots", part_options.robot_count,
+                    "the team: the first N robots of the launch file (the same in every process)")
+        ->check(CLI::Range(size_t{1}, size_t{1000}));
+    cmd->add_option("--trace-events", part_options.trace_events,
+                    "callbacks kept for trace.json (0: no tracing)");
+    return cmd;
+  };
+  auto* sim_part = add_part(
+      "sim", "the team simulator's process of a team split over processes (lockstep leader)");
+  auto* robot_part = add_part("robot", "one robot's process of a team split over processes");
+  robot_part->add_option("--robot", part_options.robot_id, "this process's robot id")->required();
+  auto* station_part = add_part(
+      "station", "the ground station's process of a centralized team split over processes");
 
   scancrew::cli::SweepOptions sweep_options;
   auto* sweep = app.add_subcommand(
@@ -368,6 +395,12 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   if (run->parsed()) return scancrew::cli::run_launch(run_options);
+  for (auto [cmd, process] : {std::pair{sim_part, "sim"}, std::pair{robot_part, "robot"},
+                              std::pair{station_part, "station"}})
+    if (cmd->parsed()) {
+      part_options.process = process;
+      return scancrew::cli::run_launch(part_options);
+    }
   if (sweep->parsed()) return scancrew::cli::run_sweep(sweep_options);
   if (components->parsed()) return cmd_components();
   if (graph->parsed()) return cmd_graph(graph_path);

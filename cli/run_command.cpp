@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/report.hpp"
+#include "components/dds_bridge/dds_bridge.hpp"
 #include "components/low_level/low_level_planner.hpp"
 #include "components/mission/mission_monitor.hpp"
 #include "components/team_simulator/team_simulator.hpp"
@@ -68,6 +70,25 @@ void print_mission_progress(const MissionMonitor& monitor, double elapsed_s, dou
   std::fflush(stderr);
 }
 
+// What a bridge sent and received: the data exchanged (thesis 5.4), per minute of sim time.
+void print_bridge_bytes(const dds_bridge::DdsBridge& bridge, double sim_s) {
+  const dds_bridge::BridgeStats s = bridge.stats();
+  uint64_t sent = 0, received = 0, samples = 0;
+  for (const auto& t : s.topics) {
+    sent += t.sent_bytes;
+    received += t.received_bytes;
+    samples += t.sent_samples;
+  }
+  const double minutes = sim_s / 60.0;
+  std::printf(
+      "dds %s (bridge %u): sent %llu bytes in %llu samples (%.0f bytes per minute of sim "
+      "time), received %llu bytes; peers lost %llu\n",
+      bridge.qualified_name().c_str(), bridge.bridge_id(), static_cast<unsigned long long>(sent),
+      static_cast<unsigned long long>(samples),
+      minutes > 0 ? static_cast<double>(sent) / minutes : 0.0,
+      static_cast<unsigned long long>(received), static_cast<unsigned long long>(s.peers_lost));
+}
+
 struct MeshScore {
   std::string robot_ns;
   std::string mesh_path, octomap_path;
@@ -75,8 +96,49 @@ struct MeshScore {
   std::optional<eval::ReconstructionError> error;
 };
 
+// The voxel size of an OctoMap binary file (its text header's "res" line); 0 if unreadable.
+double octomap_resolution(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int i = 0; i < 8 && std::getline(in, line); ++i)
+    if (line.rfind("res ", 0) == 0) return std::atof(line.c_str() + 4);
+  return 0;
+}
+
+// The meshes other processes of the team wrote into the run directory since `since` (a
+// simulator process has no mapper: its robots' processes write mesh_<ns>.ply there).
+std::vector<MeshScore> meshes_in(const fs::path& dir, fs::file_time_type since) {
+  std::vector<MeshScore> scores;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("mesh_", 0) != 0 || entry.path().extension() != ".ply") continue;
+    if (entry.last_write_time(ec) < since) continue;
+    MeshScore s;
+    s.robot_ns = name.substr(5, name.size() - 9);
+    s.mesh_path = entry.path().string();
+    const fs::path map = dir / ("map_" + s.robot_ns + ".bt");
+    if (fs::exists(map, ec)) {
+      s.octomap_path = map.string();
+      s.voxel_m = octomap_resolution(map);
+    }
+    if (s.voxel_m <= 0) {
+      std::fprintf(stderr,
+                   "scancrew run: %s: no map_%s.bt beside it to give its voxel size; "
+                   "not scored\n",
+                   s.mesh_path.c_str(), s.robot_ns.c_str());
+      continue;
+    }
+    scores.push_back(std::move(s));
+  }
+  std::sort(scores.begin(), scores.end(),
+            [](const MeshScore& a, const MeshScore& b) { return a.robot_ns < b.robot_ns; });
+  return scores;
+}
+
 // Each mapper's mesh (written as the launch stopped) against the scene's ground truth.
-std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& monitor) {
+std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& monitor,
+                                    fs::file_time_type started) {
   std::vector<MeshScore> scores;
   for (const auto& c : launch.components()) {
     const auto* mapper = dynamic_cast<const tsdf::TsdfMapper*>(c.get());
@@ -92,6 +154,7 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
     s.voxel_m = mapper->config().tsdf.voxel_m;
     scores.push_back(std::move(s));
   }
+  if (scores.empty()) scores = meshes_in(launch.out_dir(), started);
   const std::string& scene_path = monitor.config().scene;
   if (scene_path.empty()) return scores;
   auto scene = sim::load_scene(scene_path);
@@ -134,6 +197,7 @@ bool copy_into(const std::string& from, const fs::path& to) {
 
 struct RunFacts {
   std::string launch_path, started, stop_reason;
+  fs::file_time_type started_at;
   double sim_s = 0, wall_s = 0;
 };
 
@@ -150,7 +214,7 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   check(mission::write_paths_csv((out / "paths.csv").string(), monitor.paths()));
   check(mission::write_coverage_csv((out / "coverage.csv").string(), monitor.coverage()));
 
-  const auto scores = score_meshes(launch, monitor);
+  const auto scores = score_meshes(launch, monitor, run.started_at);
   const MeshScore* best = nullptr;
   for (const MeshScore& s : scores)
     if (s.error && (best == nullptr || s.error->coverage > best->error->coverage)) best = &s;
@@ -276,8 +340,11 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
 }  // namespace
 
 int run_launch(const RunOptions& o) {
-  auto composed = Launch::from_file(
-      o.launch_path, {.overrides = o.sets, .out_dir = o.out_dir, .robot_count = o.robot_count});
+  auto composed = Launch::from_file(o.launch_path, {.overrides = o.sets,
+                                                    .out_dir = o.out_dir,
+                                                    .robot_count = o.robot_count,
+                                                    .process = o.process,
+                                                    .robot_id = o.robot_id});
   if (!composed) {
     std::fprintf(stderr, "scancrew: %s: %zu error(s); nothing was started\n", o.launch_path.c_str(),
                  composed.error().size());
@@ -299,7 +366,24 @@ int run_launch(const RunOptions& o) {
     launch->set_stop_condition([monitor] { return monitor->finished(); });
     if (o.trace_events > 0) launch->enable_tracing(o.trace_events);
   }
-  RunFacts run{.launch_path = o.launch_path, .started = local_time_now()};
+  // one process of a team: its bridge's lockstep paces the steps (docs/processes.md)
+  std::vector<const dds_bridge::DdsBridge*> bridges;
+  for (const auto& c : launch->components())
+    if (auto* bridge = dynamic_cast<dds_bridge::DdsBridge*>(c.get())) {
+      bridges.push_back(bridge);
+      if (StepGate* gate = bridge->step_gate()) {
+        if (launch->settings().executor != LaunchSettings::ExecutorType::kStep) {
+          std::fprintf(stderr,
+                       "scancrew: %s: %s: lockstep needs executor: {type: step} (sim time)\n",
+                       o.launch_path.c_str(), bridge->qualified_name().c_str());
+          return 2;
+        }
+        launch->set_step_gate(gate);
+      }
+    }
+  RunFacts run{.launch_path = o.launch_path,
+               .started = local_time_now(),
+               .started_at = fs::file_time_type::clock::now()};
   g_running = launch.get();
   g_interrupted = 0;
   std::signal(SIGINT, on_signal);
@@ -323,6 +407,7 @@ int run_launch(const RunOptions& o) {
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   std::fprintf(stderr, "\n");
+  for (const auto* bridge : bridges) print_bridge_bytes(*bridge, run.sim_s);
   if (monitor == nullptr) {
     print_topic_stats(stdout, launch->graph());
     return 0;

@@ -1,6 +1,8 @@
 #pragma once
 
-// `scancrew run <launch.yaml> [--out DIR] [--set name.key=value ...]`: composes the launch
+// `scancrew run <launch.yaml> [--out DIR] [--set name.key=value ...]` (and `scancrew sim`,
+// `scancrew robot --robot K`, `scancrew station`: one process of a team, docs/processes.md,
+// stepping with the others through its dds_bridge's lockstep): composes the launch
 // file and runs it. A launch file with a mission_monitor (components/mission) is a mission:
 // it stops when the monitor says the mission is complete (or stalled), when run.duration_s
 // (the time budget) is spent, or on Ctrl-C, and in every case writes its run directory
@@ -21,6 +23,10 @@ struct RunOptions {
   // missions: per-component compute time and trace.json, at most this many callbacks kept
   // (24 bytes each; beyond it only counted); 0: no tracing
   size_t trace_events = 1'000'000;
+  // a team split over processes (docs/processes.md): "run" (all in one), "sim", "robot"
+  // (robot_id) or "station"
+  std::string process = "run";
+  uint32_t robot_id = 0;
 };
 
 // 0: ran (a mission: its run directory written); 2: the launch file was refused; 1: the

@@ -1,6 +1,7 @@
 #include "executors/launch.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -21,7 +22,8 @@ using RobotSpec = TeamMember;
 struct ComponentSpec {
   std::string name, type;
   bool per_robot = true;
-  std::string group_name;  // empty: a group of its own
+  std::vector<std::string> processes;  // the commands that compose it (LaunchOptions::process)
+  std::string group_name;              // empty: a group of its own
   CallbackGroup::Type group_type = CallbackGroup::Type::kMutuallyExclusive;
   YAML::Node params;
   std::string path;  // "components[i]"
@@ -244,8 +246,10 @@ class LaunchBuilder {
       r.required("name", spec.name);
       r.required("type", spec.type);
       r.optional("per_robot", spec.per_robot);
-      known_subkeys(c, spec.path,
-                    {"name", "type", "per_robot", "params", "remap", "qos", "callback_group"});
+      read_processes(c, spec, r);
+      known_subkeys(
+          c, spec.path,
+          {"name", "type", "per_robot", "process", "params", "remap", "qos", "callback_group"});
       merge(r);
       if (!r.ok()) continue;
       if (!valid_name(spec.name))
@@ -264,8 +268,37 @@ class LaunchBuilder {
       read_group(c["callback_group"], spec);
       read_remaps(c["remap"], spec);
       read_qos(c["qos"], spec);
-      specs_.push_back(std::move(spec));
+      if (std::find(spec.processes.begin(), spec.processes.end(), options_.process) !=
+          spec.processes.end())
+        specs_.push_back(std::move(spec));
     }
+    if (errors_.empty() && specs_.empty())
+      errors_.push_back(file_ + ": no component runs in the '" + options_.process +
+                        "' process (components' process: keys)");
+  }
+
+  // process: a command name or a list of them; default [run, robot] (per-robot) or [run].
+  void read_processes(const YAML::Node& c, ComponentSpec& spec, ParamReader& r) {
+    static constexpr std::array<std::string_view, 4> kProcesses = {"run", "sim", "robot",
+                                                                   "station"};
+    if (!c.IsMap() || !c["process"].IsDefined()) {
+      spec.processes = {"run"};
+      if (spec.per_robot) spec.processes.emplace_back("robot");
+      return;
+    }
+    const YAML::Node& node = c["process"];
+    if (node.IsScalar()) {
+      spec.processes = {node.Scalar()};
+    } else {
+      r.optional_list("process", spec.processes);
+    }
+    for (const std::string& p : spec.processes)
+      if (std::find(kProcesses.begin(), kProcesses.end(), p) == kProcesses.end())
+        errors_.push_back(yaml_location(file_, node) + ": " + spec.path + ".process: '" + p +
+                          "' is no process; allowed: run, sim, robot, station (or a list)");
+    if (spec.processes.empty())
+      errors_.push_back(yaml_location(file_, node) + ": " + spec.path +
+                        ".process: an empty list; allowed: run, sim, robot, station");
   }
 
   void known_subkeys(const YAML::Node& c, const std::string& path,
@@ -358,9 +391,22 @@ class LaunchBuilder {
     std::vector<Pending> created;
     const auto team = std::make_shared<const std::vector<TeamMember>>(robots_);
     const auto& registry = ComponentRegistry::instance();
+    // a robot process makes the per-robot components of its own robot only
+    std::vector<RobotSpec> own = robots_;
+    if (options_.process == "robot") {
+      own.clear();
+      for (const RobotSpec& r : robots_)
+        if (r.id == options_.robot_id) own.push_back(r);
+      if (own.empty()) {
+        std::string ids;
+        for (const RobotSpec& r : robots_) ids += (ids.empty() ? "" : ", ") + std::to_string(r.id);
+        errors_.push_back(file_ + ": --robot " + std::to_string(options_.robot_id) +
+                          ": no such robot in this run; its robots: " + ids);
+        return;
+      }
+    }
     for (const ComponentSpec& spec : specs_) {
-      const std::vector<RobotSpec> owners =
-          spec.per_robot ? robots_ : std::vector<RobotSpec>{{0, ""}};
+      const std::vector<RobotSpec> owners = spec.per_robot ? own : std::vector<RobotSpec>{{0, ""}};
       bool params_reported = false;
       for (const RobotSpec& robot : owners) {
         ComponentContext ctx;
@@ -492,6 +538,8 @@ double Launch::run(const Progress& progress) {
   activate_all();
   const double ran = step_executor_ ? run_stepped(progress) : run_threaded(progress);
   deactivate_all();
+  // after the components wrote what they write on deactivation (meshes, maps)
+  if (step_executor_ && step_gate_ != nullptr) step_gate_->finish(step_executor_->clock().now_ns());
   return ran;
 }
 
@@ -506,7 +554,13 @@ double Launch::run_stepped(const Progress& progress) {
          !(stop_when_ && stop_when_())) {
     int64_t target = clock.now_ns() + step_ns;
     if (end_ns != 0) target = std::min(target, start + end_ns);
+    if (step_gate_ != nullptr) {
+      const auto gated = step_gate_->before_step(target);
+      if (!gated) break;
+      target = std::max(*gated, clock.now_ns());
+    }
     step_executor_->run_until(target);
+    if (step_gate_ != nullptr) step_gate_->after_step(clock.now_ns());
     if (progress && clock.now_ns() >= next_report) {
       progress(static_cast<double>(clock.now_ns() - start) * 1e-9, settings_.duration_s);
       next_report += period_ns;

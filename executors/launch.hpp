@@ -15,6 +15,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,38 @@ struct LaunchOptions {
   // N: the first N robots of the file's robots: list (more than it lists: an error); 0: as
   // the file says (run.robots, else all of them).
   size_t robot_count = 0;
+  // Which process of a team this launch composes (docs/processes.md): "run" (everything in
+  // one process, `scancrew run`), "sim", "robot" or "station". A component runs in the
+  // commands its `process:` key lists (default: [run, robot] for per-robot components,
+  // [run] for the others).
+  std::string process = "run";
+  // process "robot": the robot (id) this process is; its per-robot components are made for
+  // it alone, while every component still sees the whole team (team()).
+  uint32_t robot_id = 0;
+};
+
+// What a step-executed launch asks before and tells after each step: the lockstep of a
+// team split over processes (a simulator leading, robots following). Methods run on the
+// thread that calls Launch::run.
+class StepGate {
+ public:
+  virtual ~StepGate() = default;
+  // Before stepping the clock to target_ns (may block). Returns the time to step to (at
+  // least the clock's now), or nullopt to end the run.
+  virtual std::optional<int64_t> before_step(int64_t target_ns) = 0;
+  // After the step, with the clock at now_ns.
+  virtual void after_step(int64_t now_ns) = 0;
+  // Once, when the run ends for any reason, after the components' deactivation, with the
+  // clock at now_ns.
+  virtual void finish(int64_t now_ns) = 0;
+  // Ends a blocked before_step soon (async-signal-safe: Launch::request_stop calls it).
+  void cancel() { cancelled_.store(true); }
+
+ protected:
+  bool cancelled() const { return cancelled_.load(); }
+
+ private:
+  std::atomic<bool> cancelled_{false};
 };
 
 class Launch {
@@ -85,10 +118,16 @@ class Launch {
       if (auto* t = dynamic_cast<T*>(c.get())) return t;
     return nullptr;
   }
-  void request_stop() { stop_requested_.store(true); }
+  void request_stop() {
+    stop_requested_.store(true);
+    if (step_gate_ != nullptr) step_gate_->cancel();
+  }
   // Checked between steps (step executor) or progress polls (threaded): true ends run() as
   // request_stop() does. Set before run(), from the thread that runs it.
   void set_stop_condition(std::function<bool()> stop_when) { stop_when_ = std::move(stop_when); }
+  // Step executor only: a gate consulted around every step (StepGate); null: none. The gate
+  // must outlive run().
+  void set_step_gate(StepGate* gate) { step_gate_ = gate; }
 
   // Records every callback of the launch's executor from now on (docs/runtime.md,
   // "Tracing"): totals per component, and up to max_events timeline events (buffer
@@ -113,6 +152,7 @@ class Launch {
   std::unique_ptr<StepExecutor> step_executor_;
   std::atomic<bool> stop_requested_{false};
   std::function<bool()> stop_when_;
+  StepGate* step_gate_ = nullptr;
   std::string out_dir_;
   std::unique_ptr<Tracer> tracer_;  // the executor points to it; null: tracing off
 

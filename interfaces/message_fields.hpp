@@ -58,6 +58,8 @@ SCANCREW_MESSAGE_FIELDS(Maneuver, header, kind, aside, because_of_robot)
 SCANCREW_MESSAGE_FIELDS(RobotState, header, T_world_body, velocity_mps, mode, plan_id,
                         current_cluster, path_index, steps_remaining, path_length_m)
 SCANCREW_MESSAGE_FIELDS(MissionStatus, header, phase, ise_remaining, coverage_estimate, elapsed_s)
+SCANCREW_MESSAGE_FIELDS(StepMark, robot_id, topic_key, seq)
+SCANCREW_MESSAGE_FIELDS(StepSync, header, t_ns, stop, marks)
 
 SCANCREW_MESSAGE_FIELDS(TsdfPatch, header, patch_id, robot_id, index, T_world_patch, voxel_size_m,
                         truncation_m, block_count, raw_bytes, data)
@@ -76,7 +78,7 @@ template <class... T>
 struct TypeList {};
 using WireMessages = TypeList<StereoFrame, Imu, DepthImage, Odometry, LocalPath, TeamPlan,
                               VelocityCommand, Maneuver, RobotState, MissionStatus, TsdfPatch,
-                              PatchList, PatchRequest, IseSet, ViewpointClusters>;
+                              PatchList, PatchRequest, IseSet, ViewpointClusters, StepSync>;
 
 // Calls fn.template operator()<T>() for the wire message whose kTypeName is type_name;
 // false when there is none.

@@ -111,4 +111,23 @@ struct MissionStatus {
   double elapsed_s = 0;
 };
 
+// The lockstep of a team split over processes (docs/processes.md): the simulator's bridge
+// (the leader) tells the robots' bridges to step their sim clocks to t_ns; each follower
+// answers with the same message once it has stepped. `marks` say, per sender and DDS topic
+// (its key, LinkModel::topic_key), the last sequence number written up to this step: a
+// bridge steps only once it has received those samples, and holds back later ones, so what
+// a process sees at each step does not depend on the processes' relative speed.
+struct StepMark {
+  uint32_t robot_id = 0;   // the sending bridge
+  uint64_t topic_key = 0;  // its DDS topic's key
+  uint64_t seq = 0;        // the last sequence number written on it
+};
+struct StepSync {
+  static constexpr const char* kTypeName = "scancrew/StepSync";
+  Header header;     // header.robot_id: the sending bridge's id
+  int64_t t_ns = 0;  // leader: step to t_ns; follower: stepped to t_ns
+  uint8_t stop = 0;  // leader: the run ends (follower: it has ended)
+  std::vector<StepMark> marks;
+};
+
 }  // namespace scancrew::msg

@@ -19,14 +19,17 @@ DdsBridge::~DdsBridge() {
 }
 
 Result<void, std::string> DdsBridge::on_configure() {
+  self_id_ = config_.bridge_id >= 0 ? static_cast<uint32_t>(config_.bridge_id) : robot_id();
   rules_.format_version = msg::kMessageFormatVersion;
   rules_.max_sample_bytes = config_.max_sample_bytes;
   rules_.team = config_.team_ids;
   if (rules_.team.empty()) {
     rules_.team.push_back(0);  // a station
+    rules_.team.push_back(config_.simulator_id);
     for (const TeamMember& m : team()) rules_.team.push_back(m.id);
   }
-  if (config_.link.enabled()) link_model_.emplace(config_.link, robot_id());
+  if (config_.link.enabled()) link_model_.emplace(config_.link, self_id_);
+  if (auto expanded = expand_templates(); !expanded) return expanded;
   // every topic's type before any DDS entity exists
   for (BridgedTopic& spec : config_.topics)
     if (auto typed = resolve_type(spec); !typed) return typed;
@@ -40,10 +43,20 @@ Result<void, std::string> DdsBridge::on_configure() {
   dds.intraprocess = config_.intraprocess;
   dds.liveliness_lease_s = config_.liveliness_lease_s;
   dds.participant_name = "scancrew" + qualified_name();
-  dds.robot_id = robot_id();
+  dds.robot_id = self_id_;
   DdsLink::Callbacks callbacks;
   // DDS threads: queue and return
   callbacks.on_sample = [this](size_t reader, WireEnvelope&& envelope, size_t bytes) {
+    if (reader >= data_readers_.load()) {  // the lockstep's reader, added after the topics'
+      on_sync(std::move(envelope));
+      return;
+    }
+    {
+      const std::lock_guard lock(sync_mutex_);
+      uint64_t& max = received_max_[{envelope.robot_id, reader}];
+      max = std::max(max, envelope.seq);
+      sync_cv_.notify_all();
+    }
     Incoming in{reader, std::move(envelope), bytes, clock().now_ns()};
     std::lock_guard lock(inbox_mutex_);
     if (inbox_.size() >= config_.inbox_samples) {
@@ -54,6 +67,16 @@ Result<void, std::string> DdsBridge::on_configure() {
     ++taken_;
   };
   callbacks.on_peer = [this](uint32_t id, bool alive, std::string_view why) {
+    {
+      const std::lock_guard lock(sync_mutex_);
+      if (alive) {
+        alive_.insert(id);
+        lost_.erase(id);
+      } else {
+        lost_.insert(id);
+      }
+      sync_cv_.notify_all();
+    }
     std::lock_guard lock(inbox_mutex_);
     peer_events_.push_back({id, alive, std::string(why)});
   };
@@ -66,18 +89,73 @@ Result<void, std::string> DdsBridge::on_configure() {
   topics_.reserve(config_.topics.size());
   for (const BridgedTopic& spec : config_.topics)
     if (auto added = add_topic(spec); !added) return added;
-  lost_pub_ = create_publisher<msg::RobotState>(config_.lost_port);
+  data_readers_.store(topic_of_reader_.size());
+  if (config_.lockstep != "none")
+    if (auto sync = make_lockstep(); !sync) return sync;
+  // "{lost}" in lost_port: the report goes to the lost robot's own topic, e.g.
+  // "/{lost}/robot_state"
+  if (config_.lost_port.find("{lost}") != std::string::npos) {
+    for (const TeamMember& m : team()) {
+      std::string port = config_.lost_port;
+      port.replace(port.find("{lost}"), 6, m.ns);
+      lost_pubs_[m.id] =
+          std::make_shared<Publisher<msg::RobotState>>(create_publisher<msg::RobotState>(port));
+    }
+  } else {
+    lost_pub_ = create_publisher<msg::RobotState>(config_.lost_port);
+  }
   create_timer(std::chrono::nanoseconds(std::llround(config_.poll_period_s * 1e9)),
                [this] { tick(); });
   return {};
 }
 
+// "{team}", "{others}" and "{self}" in a name: one topic per robot of the launch, per robot
+// but this bridge's, or this bridge's robot.
+Result<void, std::string> DdsBridge::expand_templates() {
+  std::vector<BridgedTopic> expanded;
+  for (const BridgedTopic& spec : config_.topics) {
+    std::string placeholder;
+    for (const char* p : {"{team}", "{others}", "{self}"})
+      if (spec.name.find(p) != std::string::npos) placeholder = p;
+    if (placeholder.empty()) {
+      expanded.push_back(spec);
+      continue;
+    }
+    size_t made = 0;
+    for (const TeamMember& m : team()) {
+      if (m.ns.empty())
+        return make_unexpected(qualified_name() + ": topic '" + spec.name + "': " + placeholder +
+                               " needs the launch file's robots, each with a namespace");
+      if ((placeholder == "{others}" && m.id == robot_id()) ||
+          (placeholder == "{self}" && m.id != robot_id()))
+        continue;
+      BridgedTopic t = spec;
+      t.name.replace(t.name.find(placeholder), placeholder.size(), m.ns);
+      const bool duplicate = std::any_of(expanded.begin(), expanded.end(), [&](const auto& e) {
+        return e.exported == t.exported && e.name == t.name;
+      });
+      if (duplicate)
+        return make_unexpected(qualified_name() + ": topic '" + t.name + "' is listed twice (" +
+                               spec.name + ")");
+      expanded.push_back(std::move(t));
+      ++made;
+    }
+    if (placeholder == "{self}" && made == 0)
+      return make_unexpected(qualified_name() + ": topic '" + spec.name +
+                             "': {self} names a per-robot bridge's own robot (per_robot: true)");
+  }
+  config_.topics = std::move(expanded);
+  return {};
+}
+
+std::string DdsBridge::local_port(const BridgedTopic& spec) const {
+  if (spec.exported || spec.name.front() == '/') return spec.name;
+  return config_.import_prefix + spec.name;
+}
+
 Result<void, std::string> DdsBridge::resolve_type(BridgedTopic& spec) {
-  if (spec.name.front() == '/' && !spec.exported)
-    return make_unexpected(qualified_name() + ": import '" + spec.name +
-                           "': imports are relative names (they land on import_prefix + name)");
   // the parameter, else the local topic of the import port, else the local topic of the name
-  const std::string port = spec.exported ? spec.name : config_.import_prefix + spec.name;
+  const std::string port = local_port(spec);
   if (spec.type_name.empty())
     for (const std::string& candidate : {resolve(port), resolve(spec.name)})
       if (auto topic = graph().find(candidate)) {
@@ -101,7 +179,7 @@ Result<void, std::string> DdsBridge::add_topic(const BridgedTopic& spec) {
   const std::string dds_topic =
       config_.dds_prefix + (spec.name.front() == '/' ? spec.name.substr(1) : spec.name);
   state.topic_key = LinkModel::topic_key(dds_topic);
-  const std::string port = spec.exported ? spec.name : config_.import_prefix + spec.name;
+  const std::string port = local_port(spec);
   auto endpoint = spec.exported ? link_->add_writer(dds_topic, spec.qos)
                                 : link_->add_reader(dds_topic, spec.qos);
   if (!endpoint) return make_unexpected(qualified_name() + ": " + endpoint.error());
@@ -146,8 +224,7 @@ void DdsBridge::add_export(size_t index) {
 
 template <class T>
 void DdsBridge::add_import(size_t index) {
-  auto pub = std::make_shared<Publisher<T>>(
-      create_publisher<T>(config_.import_prefix + topics_[index].spec.name));
+  auto pub = std::make_shared<Publisher<T>>(create_publisher<T>(local_port(topics_[index].spec)));
   topics_[index].deliver = [this, pub](const WireEnvelope& envelope, Reject* reason) {
     if (!pub->valid()) return Delivery::kRejected;
     auto loan = pub->loan();
@@ -178,7 +255,7 @@ void DdsBridge::send(size_t index, std::span<const uint8_t> bytes) {
   }
   WireEnvelope envelope;
   envelope.format_version = msg::kMessageFormatVersion;
-  envelope.robot_id = robot_id();
+  envelope.robot_id = self_id_;
   envelope.seq = ++t.seq;
   envelope.stamp_ns = clock().now_ns();
   envelope.type_name = t.spec.type_name;
@@ -203,6 +280,13 @@ void DdsBridge::tick() {
                     std::make_move_iterator(inbox_.end()));
     inbox_.clear();
     events.swap(peer_events_);
+  }
+  if (!held_.empty()) {  // lockstep: samples held back until their step released them
+    std::vector<Incoming> held;
+    held.swap(held_);
+    held.insert(held.end(), std::make_move_iterator(drained_.begin()),
+                std::make_move_iterator(drained_.end()));
+    drained_.swap(held);
   }
   for (Incoming& in : drained_) admit(std::move(in));
   drained_.clear();
@@ -232,12 +316,15 @@ void DdsBridge::tick() {
 }
 
 void DdsBridge::admit(Incoming&& in) {
+  if (held_back(in)) {
+    held_.push_back(std::move(in));
+    return;
+  }
   const size_t topic = topic_of_reader_.at(in.topic);
-  in.topic = topic;
   const TopicState& t = topics_[topic];
   std::lock_guard lock(stats_mutex_);
   TopicCounters& c = stats_.topics[topic];
-  if (in.envelope.robot_id == robot_id()) {
+  if (in.envelope.robot_id == self_id_) {
     ++c.own_ignored;
     return;
   }
@@ -251,7 +338,7 @@ void DdsBridge::admit(Incoming&& in) {
   int64_t deliver_at = in.arrival_ns;
   if (link_model_) {
     const auto d = link_model_->admit(in.envelope.robot_id, t.topic_key, in.envelope.seq,
-                                      in.wire_bytes, in.arrival_ns);
+                                      in.wire_bytes, in.arrival_ns, t.spec.lossy);
     switch (d.verdict) {
       case LinkVerdict::kPartitioned:
         ++c.dropped_partition;
@@ -267,6 +354,7 @@ void DdsBridge::admit(Incoming&& in) {
         break;
     }
   }
+  in.topic = topic;
   pending_.push({deliver_at, pending_order_++, std::move(in)});
 }
 
@@ -300,7 +388,13 @@ void DdsBridge::handle_peer(const PeerEvent& event) {
     std::lock_guard lock(stats_mutex_);
     ++stats_.peers_lost;
   }
-  auto loan = lost_pub_.loan();
+  Publisher<msg::RobotState>* pub = &lost_pub_;
+  if (!lost_pubs_.empty()) {
+    const auto it = lost_pubs_.find(event.robot_id);
+    if (it == lost_pubs_.end()) return;  // the simulator or a station: no robot state
+    pub = it->second.get();
+  }
+  auto loan = pub->loan();
   if (!loan) return;  // counted by the topic (loan failures)
   msg::RobotState& state = **loan;
   state = msg::RobotState{};
@@ -308,7 +402,7 @@ void DdsBridge::handle_peer(const PeerEvent& event) {
   state.header.seq = ++lost_seq_;
   state.header.stamp_ns = clock().now_ns();
   state.mode = msg::RobotState::Mode::kLost;
-  (void)lost_pub_.forward(std::move(*loan));
+  (void)pub->forward(std::move(*loan));
 }
 
 void DdsBridge::on_activate() {

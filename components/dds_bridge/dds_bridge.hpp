@@ -18,10 +18,18 @@
 // teammate's process dies (its lease runs out) or leaves, a msg::RobotState with mode kLost
 // and that robot's id in its header is published on the port "team_events" (once per loss).
 //
+// Topic names may hold "{team}" (every robot of the launch) or "{others}" (every robot but
+// this bridge's): "/{others}/patch" imports /r2/patch and /r3/patch in robot 1's process.
+// An absolute import lands on its own name (a process of the team split over processes
+// sees its teammates' topics where a one-process run has them).
+// Lockstep (lockstep: leader | follower): the bridges of a team split over processes step
+// their sim clocks together (step_gate(), dds_bridge_lockstep.cpp, docs/processes.md).
+//
 // Thread safety: stats() and the test accessors may be called from any thread. The
 // component's callbacks must run in a mutually exclusive group (the default).
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -30,6 +38,7 @@
 #include <mutex>
 #include <optional>
 #include <queue>
+#include <set>
 #include <span>
 #include <string>
 #include <string_view>
@@ -40,6 +49,7 @@
 #include "components/dds_bridge/envelope_check.hpp"
 #include "components/dds_bridge/link_model.hpp"
 #include "executors/component.hpp"
+#include "executors/launch.hpp"
 #include "executors/params.hpp"
 #include "interfaces/nav_msgs.hpp"
 
@@ -51,6 +61,7 @@ struct BridgedTopic {
   std::string type_name;  // kTypeName; empty: taken from the local graph at configure
   DdsTopicQos qos;
   bool exported = false;
+  bool lossy = true;  // the link model's loss applies (link_loss_topics)
 };
 
 class DdsBridge final : public Component {
@@ -68,12 +79,18 @@ class DdsBridge final : public Component {
     std::vector<BridgedTopic> topics;         // exports, then imports
     std::string dds_prefix = "sc/";           // DDS topic = prefix + name without a leading '/'
     std::string import_prefix = "remote/";    // local port of an import = prefix + name
-    std::string lost_port = "team_events";    // where robot-loss reports go
+    std::string lost_port = "team_events";    // where robot-loss reports go ("{lost}": its ns)
     std::vector<uint32_t> team_ids;           // senders accepted; empty: the launch's robots + 0
     uint64_t max_sample_bytes = 64ULL << 20;  // a larger payload is refused (both ways)
     uint32_t inbox_samples = 4096;            // DDS -> executor queue; overflow drops oldest
     double poll_period_s = 0.002;             // how often imports are delivered
     double liveliness_lease_s = 2.0;          // a silent peer is reported lost after this
+    // the id in this bridge's envelopes; -1: its robot's id (0 for a station)
+    int64_t bridge_id = -1;
+    uint32_t simulator_id = 65535;  // the simulator process's bridge id (in the default team)
+    std::string lockstep = "none";  // none | leader (the simulator) | follower (robots, station)
+    std::vector<uint32_t> lockstep_followers;  // leader: who follows; empty: the launch's robots
+    double lockstep_timeout_s = 120.0;         // wall seconds a step may wait for a peer, then stop
     LinkConfig link;
   };
   static Config read_config(ParamReader& p);
@@ -87,8 +104,13 @@ class DdsBridge final : public Component {
   size_t matched(std::string_view name, bool exported) const;
   size_t peers_alive() const;
   bool active() const { return active_now_.load(); }
+  // lockstep: leader | follower: the gate Launch::run consults around each step; else null.
+  StepGate* step_gate();
+  uint32_t bridge_id() const { return self_id_; }
 
  private:
+  class Lockstep;  // dds_bridge_lockstep.cpp
+  friend class Lockstep;
   struct Incoming {
     size_t topic = 0;  // index into topics_
     WireEnvelope envelope;
@@ -114,6 +136,7 @@ class DdsBridge final : public Component {
     std::vector<uint8_t> scratch;  // export: the encoding buffer
     DeliverFn deliver;             // import
   };
+  using MarkKey = std::pair<uint32_t, uint64_t>;  // sender, DDS topic key
   struct PeerEvent {
     uint32_t robot_id = 0;
     bool alive = false;
@@ -125,6 +148,8 @@ class DdsBridge final : public Component {
   void on_deactivate() override;
   void on_shutdown() override;
 
+  Result<void, std::string> expand_templates();
+  std::string local_port(const BridgedTopic& spec) const;
   Result<void, std::string> resolve_type(BridgedTopic& spec);
   Result<void, std::string> add_topic(const BridgedTopic& spec);
   template <class T>
@@ -134,17 +159,22 @@ class DdsBridge final : public Component {
   void send(size_t index, std::span<const uint8_t> bytes);
   void tick();
   void admit(Incoming&& in);
+  bool held_back(Incoming& in);
+  Result<void, std::string> make_lockstep();
+  void on_sync(WireEnvelope&& envelope);
   void handle_peer(const PeerEvent& event);
   void reject(TopicCounters& counters, Reject reason, const std::string& detail);
   void warn_once(const std::string& message);
 
   Config config_;
+  uint32_t self_id_ = 0;
   EnvelopeRules rules_;
   std::optional<LinkModel> link_model_;
   std::unique_ptr<DdsLink> link_;
   std::vector<TopicState> topics_;
   std::vector<size_t> topic_of_reader_;  // DDS reader index -> topics_ index (set-up only)
   Publisher<msg::RobotState> lost_pub_;
+  std::map<uint32_t, std::shared_ptr<Publisher<msg::RobotState>>> lost_pubs_;  // "{ns}" ports
   uint64_t lost_seq_ = 0;
   std::priority_queue<Pending, std::vector<Pending>, std::greater<>> pending_;
   uint64_t pending_order_ = 0;
@@ -162,6 +192,19 @@ class DdsBridge final : public Component {
   BridgeStats stats_;
   std::array<bool, kRejectKinds> reject_logged_{};
   std::vector<std::string> warned_;
+
+  // lockstep: the driver thread (step gate) <-> DDS threads
+  std::unique_ptr<StepGate> lockstep_;  // a Lockstep
+  size_t sync_writer_ = 0, sync_reader_ = 0;
+  std::mutex sync_mutex_;
+  std::condition_variable sync_cv_;
+  std::atomic<size_t> data_readers_{SIZE_MAX};  // DDS readers of topics (then the lockstep's)
+  std::map<std::pair<uint32_t, size_t>, uint64_t> received_max_;  // per sender and DDS reader
+  std::map<uint32_t, msg::StepSync> syncs_;  // the latest StepSync of each peer
+  std::set<uint32_t> alive_, lost_;          // peers by presence
+  // the executor thread (the driver's, under a step executor): what may be delivered
+  std::map<MarkKey, uint64_t> released_;
+  std::vector<Incoming> held_;
 };
 
 }  // namespace scancrew::dds_bridge

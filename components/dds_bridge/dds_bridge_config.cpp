@@ -9,17 +9,37 @@ namespace scancrew::dds_bridge {
 
 namespace {
 
+// The placeholders a name may hold once, as a whole segment (expanded at configure).
+constexpr std::string_view kTeam = "{team}", kOthers = "{others}", kSelf = "{self}";
+
+std::string without_placeholders(std::string name) {
+  for (const std::string_view p : {kTeam, kOthers, kSelf})
+    if (const auto at = name.find(p); at != std::string::npos)
+      name.replace(at, p.size(), p.substr(1, p.size() - 2));
+  return name;
+}
+
 bool valid_topic_name(const std::string& name) {
   if (name.empty() || name == "/" || name.back() == '/') return false;
-  return std::all_of(name.begin(), name.end(), [](char c) {
+  // a placeholder fills a whole segment: "/{team}/depth", "{others}/patch"
+  for (const std::string_view p : {kTeam, kOthers, kSelf}) {
+    const auto at = name.find(p);
+    if (at == std::string::npos) continue;
+    const size_t end = at + p.size();
+    if ((at != 0 && name[at - 1] != '/') || (end != name.size() && name[end] != '/')) return false;
+  }
+  const std::string plain = without_placeholders(name);
+  return std::all_of(plain.begin(), plain.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
            c == '/';
   });
 }
 
-// "robot_state" -> "robot_state", "/team/plan" -> "team_plan"
+// "robot_state" -> "robot_state", "/team/plan" -> "team_plan", "/{others}/patch" ->
+// "others_patch"
 std::string topic_key(const std::string& name) {
-  std::string key = name.front() == '/' ? name.substr(1) : name;
+  std::string key = without_placeholders(name);
+  if (key.front() == '/') key.erase(0, 1);
   std::replace(key.begin(), key.end(), '/', '_');
   return key;
 }
@@ -30,7 +50,9 @@ void read_topics(ParamReader& p, const char* list_key, bool exported,
   p.optional_list(list_key, names);
   for (const std::string& name : names) {
     if (!valid_topic_name(name)) {
-      p.report(list_key, "'" + name + "' is not a topic name (letters, digits, '_' and '/')");
+      p.report(list_key, "'" + name +
+                             "' is not a topic name (letters, digits, '_' and '/'; {team}, "
+                             "{others} or {self} as a whole segment)");
       continue;
     }
     const bool duplicate = std::any_of(topics.begin(), topics.end(), [&](const BridgedTopic& t) {
@@ -70,6 +92,13 @@ DdsBridge::Config DdsBridge::read_config(ParamReader& p) {
   if (c.topics.empty())
     p.report("export_topics", "nothing to bridge: list export_topics and/or import_topics");
   for (BridgedTopic& t : c.topics) read_topic_params(p, t);
+  // an absolute name both exported and imported would loop back onto itself
+  for (const BridgedTopic& e : c.topics)
+    for (const BridgedTopic& i : c.topics)
+      if (e.exported && !i.exported && e.name == i.name && e.name.front() == '/')
+        p.report("import_topics", "'" + e.name +
+                                      "' is exported too: an absolute import lands on its own "
+                                      "name, where the export would send it back");
   p.optional("dds_prefix", c.dds_prefix);
   p.optional("import_prefix", c.import_prefix);
   if (c.import_prefix.empty() || c.import_prefix.front() == '/')
@@ -86,12 +115,31 @@ DdsBridge::Config DdsBridge::read_config(ParamReader& p) {
   p.optional("inbox_samples", c.inbox_samples, {1, 1e7});
   p.optional("poll_period_s", c.poll_period_s, {1e-4, 1.0});
   p.optional("liveliness_lease_s", c.liveliness_lease_s, {0.1, 3600});
+  p.optional("bridge_id", c.bridge_id, {-1, 4294967295.0});
+  p.optional("simulator_id", c.simulator_id, {1, 4294967295.0});
+  p.choice("lockstep", c.lockstep, {"none", "leader", "follower"});
+  std::vector<double> followers;
+  p.optional_list("lockstep_followers", followers, 0, {0, 4294967295.0});
+  for (const double id : followers) {
+    if (id != std::floor(id)) p.report("lockstep_followers", "robot ids are whole numbers");
+    c.lockstep_followers.push_back(static_cast<uint32_t>(id));
+  }
+  p.optional("lockstep_timeout_s", c.lockstep_timeout_s, {0.1, 86400});
 
   p.optional("link_latency_s", c.link.latency_s, {0, 60});
   p.optional("link_bandwidth_bps", c.link.bandwidth_bps, {0, 1e12});
   p.optional("link_loss_rate", c.link.loss_rate, {0, 1});
   p.optional("link_seed", c.link.seed);
   p.optional("link_max_queue_s", c.link.max_queue_s, {0, 3600});
+  std::vector<std::string> lossy;
+  p.optional_list("link_loss_topics", lossy);
+  for (const std::string& name : lossy)
+    if (std::none_of(c.topics.begin(), c.topics.end(),
+                     [&](const BridgedTopic& t) { return !t.exported && t.name == name; }))
+      p.report("link_loss_topics", "'" + name + "' is not an imported topic");
+  if (!lossy.empty())
+    for (BridgedTopic& t : c.topics)
+      t.lossy = std::find(lossy.begin(), lossy.end(), t.name) != lossy.end();
   std::vector<std::string> groups;
   p.optional_list("link_partition", groups);
   for (const std::string& text : groups) {

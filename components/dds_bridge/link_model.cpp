@@ -88,9 +88,9 @@ bool LinkModel::hears(uint32_t sender_id) const {
 }
 
 LinkModel::Decision LinkModel::admit(uint32_t sender_id, uint64_t topic_key, uint64_t sequence,
-                                     size_t bytes, int64_t arrival_ns) {
+                                     size_t bytes, int64_t arrival_ns, bool lossy) {
   if (!hears(sender_id)) return {LinkVerdict::kPartitioned};
-  if (config_.loss_rate > 0 &&
+  if (lossy && config_.loss_rate > 0 &&
       loss_draw(config_.seed, sender_id, receiver_id_, topic_key, sequence) < config_.loss_rate)
     return {LinkVerdict::kLost};
   const int64_t ready_ns = arrival_ns + latency_ns_;

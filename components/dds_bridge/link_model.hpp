@@ -54,9 +54,10 @@ class LinkModel {
     LinkVerdict verdict = LinkVerdict::kDeliver;
     int64_t deliver_at_ns = 0;  // kDeliver: when the sample may be published locally
   };
-  // topic_key: a stable hash of the DDS topic name (topic_key()).
+  // topic_key: a stable hash of the DDS topic name (topic_key()). lossy = false: the loss
+  // rule spares this sample (a topic not in link_loss_topics).
   Decision admit(uint32_t sender_id, uint64_t topic_key, uint64_t sequence, size_t bytes,
-                 int64_t arrival_ns);
+                 int64_t arrival_ns, bool lossy = true);
 
   bool hears(uint32_t sender_id) const;
   const LinkConfig& config() const { return config_; }

@@ -286,6 +286,46 @@ components:
                                       "scout", "x77", "/tmp/{ns}.ply"}));
 }
 
+// A team split over processes: each command composes the components its process: key
+// lists; a robot process makes its own robot's per-robot components.
+TEST(Launch, EachProcessComposesTheComponentsItsProcessKeyLists) {
+  const std::string text = R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: 0.1, sim_step_s: 0.05}
+robots:
+  - {id: 1, namespace: r1}
+  - {id: 2, namespace: r2}
+components:
+  - {name: sim, type: test_named, per_robot: false, process: [run, sim]}
+  - {name: brain, type: test_named}
+  - {name: watch_all, type: test_named, per_robot: false, process: run}
+  - {name: watch_sim, type: test_named, per_robot: false, process: sim}
+  - {name: link, type: test_named, process: robot}
+)";
+  const auto names = [&](const LaunchOptions& options) {
+    auto launch = Launch::from_string(text, "team.yaml", options);
+    std::vector<std::string> out;
+    if (!launch) return std::vector<std::string>{"error: " + launch.error().front()};
+    for (const auto& c : (*launch)->components()) out.push_back(c->qualified_name());
+    return out;
+  };
+  EXPECT_EQ(names({}), (std::vector<std::string>{"/sim", "/r1/brain", "/r2/brain", "/watch_all"}));
+  EXPECT_EQ(names({.process = "sim"}), (std::vector<std::string>{"/sim", "/watch_sim"}));
+  EXPECT_EQ(names({.process = "robot", .robot_id = 2}),
+            (std::vector<std::string>{"/r2/brain", "/r2/link"}));
+  EXPECT_NE(names({.process = "robot", .robot_id = 3}).front().find("--robot 3: no such robot"),
+            std::string::npos);
+  EXPECT_NE(names({.process = "station"}).front().find("no component runs in the 'station'"),
+            std::string::npos);
+  EXPECT_NE(errors_of(R"(
+components:
+  - {name: a, type: test_named, process: [sim, moon]}
+)")
+                .find("'moon' is no process; allowed: run, sim, robot, station"),
+            std::string::npos);
+}
+
 TEST(Launch, OutDirectoryIsSubstitutedForEveryComponent) {
   const std::string text = R"(
 clock: sim

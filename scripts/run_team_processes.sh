@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# Runs a team split over processes on this machine (docs/processes.md): `scancrew sim` and
+# one `scancrew robot --robot K` per robot of the launch file, all on loopback, and waits for
+# the simulator's process to end the mission. Each process logs to OUT/<process>.log.
+#
+#   scripts/run_team_processes.sh LAUNCH OUT [options] [-- extra scancrew options]
+#     --robots "1 2 3"   the robot ids to start (default: 1 2 3)
+#     --kill K --at-s T  SIGKILL robot K's process once the simulator reports sim time >= T
+#     --timeout S        wall seconds before every process is stopped (default 1800)
+#     --bin PATH         the scancrew binary (default: build/release/cli/scancrew)
+#   Everything after -- goes to every process (e.g. --set bridge.link_loss_rate=0.2).
+# Exit status: the simulator's (0: it wrote its run directory), 124 on timeout.
+set -u
+launch=${1:?usage: run_team_processes.sh LAUNCH OUT [options]}
+out=${2:?usage: run_team_processes.sh LAUNCH OUT [options]}
+shift 2
+robots="1 2 3" kill_robot="" kill_at="" timeout_s=1800
+bin=${SCANCREW_BIN:-build/release/cli/scancrew}
+extra=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --robots) robots=$2; shift 2 ;;
+    --kill) kill_robot=$2; shift 2 ;;
+    --at-s) kill_at=$2; shift 2 ;;
+    --timeout) timeout_s=$2; shift 2 ;;
+    --bin) bin=$2; shift 2 ;;
+    --) shift; extra=("$@"); break ;;
+    *) echo "run_team_processes.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+[ -x "$bin" ] || { echo "run_team_processes.sh: no scancrew binary at $bin" >&2; exit 2; }
+mkdir -p "$out"
+
+pids=()
+stop_all() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; }
+trap 'stop_all; exit 130' INT TERM
+
+"$bin" sim "$launch" --out "$out" "${extra[@]}" >"$out/sim.log" 2>&1 &
+sim_pid=$!
+pids+=("$sim_pid")
+declare -A robot_pid
+for k in $robots; do
+  "$bin" robot "$launch" --robot "$k" --out "$out" "${extra[@]}" >"$out/robot_$k.log" 2>&1 &
+  robot_pid[$k]=$!
+  pids+=("$!")
+done
+echo "run_team_processes.sh: simulator pid $sim_pid; robots: $(for k in $robots; do printf '%s:%s ' "$k" "${robot_pid[$k]}"; done)"
+
+# the simulator's progress line reads "t   40.0 / 300 s ..."
+sim_time() {
+  tr '\r' '\n' <"$out/sim.log" | sed -n 's/^t *\([0-9.]*\) \/.*/\1/p' | tail -n 1
+}
+
+start=$SECONDS
+killed=0
+while kill -0 "$sim_pid" 2>/dev/null; do
+  if [ -n "$kill_robot" ] && [ "$killed" = 0 ]; then
+    t=$(sim_time)
+    if [ -n "$t" ] && awk -v t="$t" -v at="$kill_at" 'BEGIN { exit !(t >= at) }'; then
+      kill -KILL "${robot_pid[$kill_robot]}" 2>/dev/null
+      killed=1
+      echo "run_team_processes.sh: killed robot $kill_robot (pid ${robot_pid[$kill_robot]}) at sim time $t s"
+    fi
+  fi
+  if [ $((SECONDS - start)) -ge "$timeout_s" ]; then
+    echo "run_team_processes.sh: timeout after $timeout_s s; stopping every process" >&2
+    stop_all
+    wait
+    exit 124
+  fi
+  sleep 0.2
+done
+wait "$sim_pid"
+status=$?
+# the robots end when the simulator stops the run; give them a bound
+for k in $robots; do
+  p=${robot_pid[$k]}
+  for _ in $(seq 1 300); do kill -0 "$p" 2>/dev/null || break; sleep 0.2; done
+  kill "$p" 2>/dev/null
+  wait "$p" 2>/dev/null
+done
+cat "$out/sim.log" | tr '\r' '\n' | grep -E "^mission |^run directory|^dds " || true
+exit "$status"
