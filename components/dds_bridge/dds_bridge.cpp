@@ -176,12 +176,15 @@ Result<void, std::string> DdsBridge::resolve_type(BridgedTopic& spec) {
 Result<void, std::string> DdsBridge::add_topic(const BridgedTopic& spec) {
   TopicState state;
   state.spec = spec;
+  // lockstep: a reader that matches after the first samples were written still gets them
+  // (its `depth` last), so that every process sees the same samples from the first step
+  if (config_.lockstep != "none" && spec.qos.reliable) state.spec.qos.transient_local = true;
   const std::string dds_topic =
       config_.dds_prefix + (spec.name.front() == '/' ? spec.name.substr(1) : spec.name);
   state.topic_key = LinkModel::topic_key(dds_topic);
   const std::string port = local_port(spec);
-  auto endpoint = spec.exported ? link_->add_writer(dds_topic, spec.qos)
-                                : link_->add_reader(dds_topic, spec.qos);
+  auto endpoint = spec.exported ? link_->add_writer(dds_topic, state.spec.qos)
+                                : link_->add_reader(dds_topic, state.spec.qos);
   if (!endpoint) return make_unexpected(qualified_name() + ": " + endpoint.error());
   state.endpoint = *endpoint;
   if (!spec.exported) {

@@ -20,6 +20,7 @@
 #include <cinttypes>
 #include <limits>
 #include <map>
+#include <thread>
 
 #include "components/dds_bridge/dds_bridge.hpp"
 #include "executors/log.hpp"
@@ -44,7 +45,11 @@ class DdsBridge::Lockstep final : public StepGate {
 
   std::optional<int64_t> before_step(int64_t target_ns) override {
     if (!started_) {
-      if (!wait("every bridged topic to match a peer", [this] { return all_matched(); }))
+      // DDS calls take Fast DDS's locks, which its listener threads hold while they call
+      // on_sample / on_sync (that take sync_mutex_): never call DDS under sync_mutex_
+      if (!wait(
+              "every bridged topic to match a peer", [this] { return all_matched(); },
+              /*timeout_s=*/-1, /*cancellable=*/true, /*locked=*/false))
         return std::nullopt;
       if (!leader_) write(kReady, false, {});
       started_ = true;
@@ -194,14 +199,16 @@ class DdsBridge::Lockstep final : public StepGate {
       SCANCREW_LOG_ERROR("%s: lockstep: %s", b_.qualified_name().c_str(), written.error().c_str());
   }
 
-  // Waits (wall clock, bounded) until ready() holds under sync_mutex_; false, with an error
-  // line, on timeout or cancel.
+  // Waits (wall clock, bounded) until ready() holds, under sync_mutex_ (locked) or polling
+  // without it; false, with an error line, on timeout or cancel.
   template <class Ready>
-  bool wait(const char* what, Ready ready, double timeout_s = -1, bool cancellable = true) {
+  bool wait(const char* what, Ready ready, double timeout_s = -1, bool cancellable = true,
+            bool locked = true) {
     if (timeout_s < 0) timeout_s = b_.config_.lockstep_timeout_s;
     const auto deadline =
         std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-    std::unique_lock lock(b_.sync_mutex_);
+    std::unique_lock lock(b_.sync_mutex_, std::defer_lock);
+    if (locked) lock.lock();
     while (!ready()) {
       if (cancellable && cancelled()) return false;
       if (std::chrono::steady_clock::now() >= deadline) {
@@ -209,7 +216,10 @@ class DdsBridge::Lockstep final : public StepGate {
                            b_.qualified_name().c_str(), timeout_s, what);
         return false;
       }
-      b_.sync_cv_.wait_for(lock, std::chrono::milliseconds(50));
+      if (locked)
+        b_.sync_cv_.wait_for(lock, std::chrono::milliseconds(50));
+      else
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     return true;
   }
