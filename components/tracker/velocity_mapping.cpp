@@ -28,7 +28,13 @@ UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& con
   const double w = r > 0 ? std::clamp(2.0 * (r - d) / r, 0.0, 1.0) : 0.0;
   UnicycleCommand cmd;
   cmd.v_mps = clamp_abs((1 - w) * v_far + w * v_near, config.max_speed_mps);
-  cmd.omega_radps = clamp_abs((1 - w) * omega_far + w * omega_near, config.max_yaw_rate_radps);
+  // the yaw rate is the near law's alone within the align radius (within the tracker's
+  // position tolerance, so nothing is left to steer towards): a blend there had an
+  // equilibrium with the target square to the side, the far law turning towards it and the
+  // near law to the target's yaw, the robot standing still short of the yaw
+  const double w_omega = d < r ? 1.0 : 0.0;
+  cmd.omega_radps =
+      clamp_abs((1 - w_omega) * omega_far + w_omega * omega_near, config.max_yaw_rate_radps);
   return cmd;
 }
 

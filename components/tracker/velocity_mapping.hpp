@@ -11,7 +11,10 @@
 //           ω = heading_gain · α
 //   near  (d ≤ align_radius/2):  the PBVS twist's own unicycle part: v = v_x (may reverse),
 //           ω = ω_z (turns to the target's yaw)
-//   between: a linear blend of the two. Then |v| ≤ max_speed, |ω| ≤ max_yaw_rate.
+//   between: a linear blend of the two speeds; the yaw rate is the near law's from
+//           d < align_radius on (a blend of the yaw rates had an equilibrium with the target
+//           square to the side: still, short of its yaw). Then |v| ≤ max_speed,
+//           |ω| ≤ max_yaw_rate.
 // The far law ignores the target's yaw: on a path the look-ahead point pulls the robot
 // along; at the goal the near law turns it to the final yaw with at most align_radius of
 // position error.

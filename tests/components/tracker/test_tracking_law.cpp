@@ -156,6 +156,22 @@ Reached drive(bool ground, const Eigen::Isometry3d& start, const Eigen::Isometry
   return r;
 }
 
+// Seen in the parking-lot mission: the goal 5.5 cm to the robot's right (within the align
+// radius, so within the tracker's position tolerance) and 27 deg to its left. Blending the
+// far law (turn towards the point: right) with the near law (turn to the goal's yaw: left)
+// had an equilibrium with the target square to the side: zero speed, zero yaw rate, the
+// robot standing still short of its goal's yaw for good.
+TEST(VelocityMapping, AUnicycleBesideItsGoalTurnsToTheGoalsYaw) {
+  const GroundMappingConfig gc;
+  for (const double side : {-1.0, 1.0}) {
+    const Reached r = drive(true, pose(0, 0, 0, -0.21 * side),
+                            pose(-0.013, -0.055 * side, 0, 0.27 * side), gc.align_radius_m, 0.087);
+    EXPECT_LT(r.position_error_m, gc.align_radius_m) << side;
+    EXPECT_LT(r.yaw_error_rad, 0.087) << side;
+    EXPECT_LT(r.time_s, 5.0) << side;
+  }
+}
+
 TEST(VelocityMapping, AUnicycleReachesTargetsAllAroundAtTheirYaw) {
   const GroundMappingConfig gc;
   for (int dir = 0; dir < 8; ++dir) {
