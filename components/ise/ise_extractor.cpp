@@ -1,10 +1,13 @@
 #include "components/ise/ise_extractor.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "components/ise/ise_ply.hpp"
 #include "executors/log.hpp"
 #include "executors/registry.hpp"
+#include "interfaces/eigen_conversions.hpp"
+#include "interfaces/nav_msgs.hpp"
 
 namespace scancrew::ise {
 
@@ -61,6 +64,10 @@ IseExtractor::Config IseExtractor::read_config(ParamReader& p) {
   p.optional("gain_cols", c.ise.gain_cols, {1, 1000});
   p.optional("completion_updates", c.ise.completion_updates, {1, 1000000});
   p.optional("ply_path", c.ply_path);
+  p.optional("give_up_visits", c.give_up_visits, {0, 1000000});
+  p.optional("visit_distance_m", c.visit_distance_m, {0.01, 100});
+  p.optional("visit_angle_deg", c.visit_angle_deg, {0.1, 180});
+  p.choice("visit_pose_topic", c.visit_pose_topic, {"pose_gt", "odom"});
   return c;
 }
 
@@ -84,7 +91,54 @@ Result<void, std::string> IseExtractor::on_configure() {
   clusters_ = create_publisher<msg::ViewpointClusters>("clusters", {.pool_size = 2});
   create_subscription<tsdf::MapUpdate>("map", {.depth = 1},
                                        [this](Sample<tsdf::MapUpdate>&& s) { on_map(*s); });
+  if (config_.give_up_visits > 0) {
+    team_poses_.resize(team().size());
+    for (size_t i = 0; i < team().size(); ++i) {
+      if (team()[i].ns.empty()) continue;
+      create_subscription<msg::Odometry>(
+          "/" + team()[i].ns + "/" + config_.visit_pose_topic, {.depth = 1},
+          [this, i](Sample<msg::Odometry>&& s) {
+            const msg::Pose3& p = s->T_world_body;
+            const msg::Quat& q = p.orientation;
+            const double yaw =
+                std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+            if (!std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
+                !std::isfinite(p.position.z) || !std::isfinite(yaw))
+              return;  // a bad pose counts no visit
+            team_poses_[i] = {true, msg::to_eigen(p.position), yaw};
+          });
+    }
+  }
   return {};
+}
+
+// Every ISE that a viewpoint sees, or was made for, while a robot stands at it counts a
+// visit (once per update); at give_up_visits it is given up (C_rem from the next update on).
+void IseExtractor::count_visits(const IseResult& r) {
+  const double max_angle = config_.visit_angle_deg * M_PI / 180.0;
+  std::vector<uint8_t> visited(r.ises.size(), 0);
+  for (const RobotPose& pose : team_poses_) {
+    if (!pose.seen) continue;
+    for (const Viewpoint& v : r.viewpoints) {
+      const Eigen::Vector3d d = v.position - pose.position;
+      const double dist = v.type == RobotType::kGround ? d.head<2>().norm() : d.norm();
+      const double angle = std::abs(std::remainder(v.yaw_rad - pose.yaw_rad, 2 * M_PI));
+      if (dist > config_.visit_distance_m || angle > max_angle) continue;
+      for (uint32_t id : v.seen) visited[id] = 1;
+      for (uint32_t id : v.ises) visited[id] = 1;  // the ISEs it was made for
+    }
+  }
+  std::vector<VoxelIndex> give_up;
+  for (uint32_t i = 0; i < r.ises.size(); ++i)
+    if (visited[i] != 0 && ++visits_[r.ises[i].voxel] == config_.give_up_visits)
+      give_up.push_back(r.ises[i].voxel);
+  if (give_up.empty()) return;
+  pipeline_->give_up(give_up);
+  SCANCREW_LOG_INFO(
+      "%s: %zu ISEs seen from %d visited viewpoints and still incomplete: given up "
+      "(C_rem; %zu in all)",
+      qualified_name().c_str(), give_up.size(), config_.give_up_visits,
+      pipeline_->given_up_count());
 }
 
 void IseExtractor::on_map(const tsdf::MapUpdate& update) {
@@ -101,6 +155,7 @@ void IseExtractor::on_map(const tsdf::MapUpdate& update) {
     pipeline_.emplace(std::move(created).value());
   }
   const IseResult& r = pipeline_->update(snap);
+  if (config_.give_up_visits > 0) count_visits(r);
   ++updates_;
   ms_sum_ += r.stats.total_ms;
   ms_max_ = std::max(ms_max_, r.stats.total_ms);

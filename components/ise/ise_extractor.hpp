@@ -13,12 +13,19 @@
 // and for ground robots `ground_camera_height_m`, `ground_floor_z_m`,
 // `ground_body_height_m`; then merge_distance_m, merge_angle_deg, d_v_m, d_v_max_m,
 // gain_rows, gain_cols, completion_updates; ply_path (a picture of the last result, written
-// when the component stops: ise_ply.hpp). Out-of-range values fail at configuration; the
-// map's W_th and voxel size are checked on the first snapshot.
+// when the component stops: ise_ply.hpp).
+// Visited and still incomplete (give_up_visits > 0; a deviation from the thesis, docs/ise.md):
+// an ISE that some viewpoint sees while a robot of the team stands at that viewpoint
+// (within visit_distance_m, horizontally for a ground viewpoint, and visit_angle_deg of its
+// yaw; poses from each robot's /<ns>/<visit_pose_topic>) in give_up_visits map updates, and
+// is still an ISE, is given up: C_rem from then on (a corner whose far side no camera can
+// reach stays an ISE for good, and its viewpoint would be visited for ever). Out-of-range values
+// fail at configuration; the map's W_th and voxel size are checked on the first snapshot.
 
 #include <cstdint>
 #include <optional>
 #include <string_view>
+#include <unordered_map>
 
 #include "components/ise/ise_pipeline.hpp"
 #include "components/tsdf/map_update.hpp"
@@ -35,7 +42,11 @@ class IseExtractor final : public Component {
   struct Config {
     IseConfig ise;
     std::vector<std::string> robot_types;  // empty: the launch file's kinds
-    std::string ply_path;  // written when the component stops: ise_ply.hpp (empty: not)
+    std::string ply_path;    // written when the component stops: ise_ply.hpp (empty: not)
+    int give_up_visits = 0;  // 0: never give an ISE up (the thesis)
+    double visit_distance_m = 0.3;
+    double visit_angle_deg = 20.0;
+    std::string visit_pose_topic = "pose_gt";  // or odom (VIO)
   };
   static Config read_config(ParamReader& p);
 
@@ -50,6 +61,7 @@ class IseExtractor final : public Component {
   void on_deactivate() override;
   void on_map(const tsdf::MapUpdate& update);
   void publish(const IseResult& r, int64_t stamp_ns);
+  void count_visits(const IseResult& r);
 
   Config config_;
   std::optional<IsePipeline> pipeline_;
@@ -58,6 +70,13 @@ class IseExtractor final : public Component {
   uint64_t updates_ = 0;
   double ms_sum_ = 0, ms_max_ = 0;
   bool failed_ = false, completion_logged_ = false;
+  struct RobotPose {
+    bool seen = false;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    double yaw_rad = 0;
+  };
+  std::vector<RobotPose> team_poses_;
+  std::unordered_map<VoxelIndex, int, tsdf::BlockIndexHash> visits_;
 };
 
 }  // namespace scancrew::ise

@@ -178,6 +178,12 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
   }
   index.reserve(out.ises.size());
   for (uint32_t i = 0; i < out.ises.size(); ++i) index.emplace(out.ises[i].voxel, i);
+  std::vector<uint8_t> gave_up(out.ises.size(), 0);
+  if (!given_up_.empty()) {
+    for (uint32_t i = 0; i < out.ises.size(); ++i)
+      gave_up[i] = given_up_.contains(out.ises[i].voxel) ? 1 : 0;
+    std::erase_if(feasible_candidates, [&](const Viewpoint& c) { return gave_up[c.ises[0]] != 0; });
+  }
   out.inspectable.assign(out.ises.size(), 0);
   for (const Viewpoint& c : feasible_candidates) out.inspectable[c.ises[0]] = 1;
   stats.candidates = feasible_candidates.size();
@@ -235,12 +241,25 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
     for (const VoxelIndex& voxel : computed[i].ises) v.seen.push_back(index.at(voxel));
     seen_[key_of(v)] = std::move(computed[i]);
   }
+  const size_t merged_viewpoints = out.viewpoints.size();
+  if (!given_up_.empty()) {
+    // what is left to see from each viewpoint; one that saw only given-up ISEs and was made
+    // for given-up ISEs only goes (one made for an ISE still inspectable stays: that ISE's
+    // only way to be seen, or given up in turn)
+    std::erase_if(out.viewpoints, [&](Viewpoint& v) {
+      const bool saw = !v.seen.empty();
+      std::erase_if(v.seen, [&](uint32_t id) { return gave_up[id] != 0; });
+      return saw && v.seen.empty() && std::all_of(v.ises.begin(), v.ises.end(), [&](uint32_t id) {
+               return gave_up[id] != 0;
+             });
+    });
+  }
   for (Viewpoint& v : out.viewpoints) {
     std::sort(v.seen.begin(), v.seen.end());
     for (uint32_t id : v.seen) out.inspectable[id] = 1;
   }
   stats.visibility_computed = compute.size();
-  stats.visibility_reused = out.viewpoints.size() - compute.size();
+  stats.visibility_reused = merged_viewpoints - compute.size();
   stats.visibility_ms = ms_since(t0);
 
   // 6. clusters and gains (2.4.3)

@@ -16,12 +16,17 @@
 //
 // C_ins and C_rem: an ISE is inspectable when some robot type has a feasible viewpoint of
 // its own for it, or some feasible viewpoint sees it; the others form C_rem (reported, not
-// planned for). Completion: no inspectable ISE over completion_updates consecutive updates,
-// once the map has had ISEs (an empty map at the start is not a finished job).
+// planned for). An ISE given up (give_up(): the team stood at viewpoints that see it and it
+// stayed incomplete, ise_extractor.hpp) is in C_rem too: no viewpoint is made for it, and
+// viewpoints that saw only given-up ISEs are dropped (a deviation from the thesis, which has
+// no such rule: docs/ise.md, "Visited and still incomplete"). Completion: no inspectable ISE over
+// completion_updates consecutive updates, once the map has had ISEs (an empty map at the start is
+// not a finished job).
 
 #include <cstdint>
 #include <map>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "components/ise/clusters.hpp"
@@ -72,6 +77,11 @@ class IsePipeline {
   const IseResult& update(const tsdf::MapSnapshot& snap);
   const IseResult& full(const tsdf::MapSnapshot& snap);
   const IseResult& result() const { return result_; }
+  // From the next update on, these ISE voxels are in C_rem whatever viewpoints see them.
+  void give_up(const std::vector<VoxelIndex>& voxels) {
+    given_up_.insert(voxels.begin(), voxels.end());
+  }
+  size_t given_up_count() const { return given_up_.size(); }
   const IseConfig& config() const { return config_; }
 
  private:
@@ -107,6 +117,7 @@ class IsePipeline {
   std::map<BlockIndex, std::vector<Ise>, BlockOrder> ises_;
   std::map<BlockIndex, BlockCandidates, BlockOrder> candidates_;
   std::unordered_map<PoseKey, Seen, PoseKeyHash> seen_;
+  std::unordered_set<VoxelIndex, tsdf::BlockIndexHash> given_up_;
   IseResult result_;
 };
 
