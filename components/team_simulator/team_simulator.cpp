@@ -38,6 +38,7 @@ TeamSimulator::Config TeamSimulator::read_config(ParamReader& p) {
   c.multirotor_camera.mount_up_m = 0.0;
   p.required("scene", c.scene);
   p.optional("physics_step_s", c.physics_step_s, {1e-4, 1});
+  p.optional("command_timeout_s", c.command_timeout_s, {0, 3600});
   p.optional("seed", c.seed);
   p.optional("publish_stereo", c.publish_stereo);
   p.optional("publish_depth", c.publish_depth);
@@ -117,9 +118,11 @@ Result<void, std::string> TeamSimulator::on_configure() {
       if (pub->valid()) pub->set_robot_id(id);
     p.imu.set_robot_id(id);
     p.pose_gt.set_robot_id(id);
-    create_subscription<msg::VelocityCommand>(
-        ns + "cmd_vel", {.depth = 1},
-        [this, i](Sample<msg::VelocityCommand>&& c) { sim_->set_velocity(i, *c); });
+    create_subscription<msg::VelocityCommand>(ns + "cmd_vel", {.depth = 1},
+                                              [this, i](Sample<msg::VelocityCommand>&& c) {
+                                                sim_->set_velocity(i, *c);
+                                                ports_[i].last_command_ns = clock().now_ns();
+                                              });
   }
   create_timer(std::chrono::nanoseconds(period_ns(1.0 / config_.physics_step_s)),
                [this] { tick(); });
@@ -128,6 +131,15 @@ Result<void, std::string> TeamSimulator::on_configure() {
 
 void TeamSimulator::tick() {
   const int64_t now = clock().now_ns();
+  const auto timeout_ns = static_cast<int64_t>(config_.command_timeout_s * 1e9);
+  if (timeout_ns > 0)
+    for (size_t i = 0; i < ports_.size(); ++i)
+      if (ports_[i].last_command_ns >= 0 && now - ports_[i].last_command_ns > timeout_ns) {
+        sim_->set_velocity(i, msg::VelocityCommand{});
+        ports_[i].last_command_ns = -1;
+        SCANCREW_LOG_WARN("%s: robot %u: no velocity command for %.2f s: stopped (watchdog)",
+                          qualified_name().c_str(), sim_->robot(i).id, config_.command_timeout_s);
+      }
   sim_->step_until(now);
   for (size_t i = 0; i < ports_.size(); ++i) {
     RobotPorts& p = ports_[i];

@@ -34,6 +34,9 @@ class TeamSimulator final : public Component {
   struct Config {
     std::string scene;  // scene file (launch_cfg/scenes/*.yaml), relative to the working directory
     double physics_step_s = 0.01;  // timer period; MuJoCo integrates at mjcf timestep inside it
+    // a robot whose last velocity command is older than this stops (its motor controller's
+    // watchdog: a robot whose process died does not drive on); 0: never
+    double command_timeout_s = 0.5;
     uint64_t seed = 1;
     bool publish_stereo = true, publish_depth = true, publish_depth_gt = false;
     sim::CameraSpec ground_camera, multirotor_camera;
@@ -55,6 +58,7 @@ class TeamSimulator final : public Component {
     Publisher<msg::Imu> imu;
     Publisher<msg::Odometry> pose_gt;
     int64_t next_frame_ns = 0, next_imu_ns = 0;
+    int64_t last_command_ns = -1;  // -1: none yet, or stopped by the watchdog
   };
 
   Result<void, std::string> on_configure() override;
