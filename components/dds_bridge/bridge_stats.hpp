@@ -39,6 +39,7 @@ struct TopicCounters {
   uint64_t received_samples = 0, received_bytes = 0;  // taken from DDS (own samples excluded)
   uint64_t delivered = 0;                             // published locally
   uint64_t own_ignored = 0;                           // our own samples (loopback)
+  uint64_t duplicates = 0;  // a sequence number not above the sender's last one (a resend)
   uint64_t dropped_partition = 0, dropped_loss = 0, dropped_saturated = 0;  // link model
   uint64_t dropped_inbox = 0;  // the inbox between DDS and the executor was full
   std::array<uint64_t, kRejectKinds> rejected{};

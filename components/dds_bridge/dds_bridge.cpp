@@ -333,11 +333,19 @@ void DdsBridge::admit(Incoming&& in) {
   }
   ++c.received_samples;
   c.received_bytes += in.wire_bytes;
+  // DDS may hand a sample over again (a transient-local history resent when the writer
+  // re-matches): a sequence number not above the sender's last one on this topic is dropped
+  uint64_t& last = last_seq_[{in.envelope.robot_id, topic}];
+  if (in.envelope.seq <= last) {
+    ++c.duplicates;
+    return;
+  }
   std::string detail;
   if (auto reason = check_envelope(in.envelope, t.spec.type_name, rules_, &detail)) {
     reject(c, *reason, "on " + c.dds_topic + ": " + detail);
     return;
   }
+  last = in.envelope.seq;
   int64_t deliver_at = in.arrival_ns;
   if (link_model_) {
     const auto d = link_model_->admit(in.envelope.robot_id, t.topic_key, in.envelope.seq,
@@ -381,6 +389,8 @@ void DdsBridge::warn_once(const std::string& message) {
 void DdsBridge::handle_peer(const PeerEvent& event) {
   if (!in_team(rules_, event.robot_id)) return;
   if (event.alive) {
+    // a restarted process numbers its samples from 1 again
+    std::erase_if(last_seq_, [&](const auto& kv) { return kv.first.first == event.robot_id; });
     SCANCREW_LOG_INFO("%s: robot %u %s", qualified_name().c_str(), event.robot_id,
                       event.why.c_str());
     return;
@@ -426,7 +436,8 @@ void DdsBridge::on_deactivate() {
     } else {
       SCANCREW_LOG_INFO(
           "%s: %s -> %s: received %llu samples, %llu bytes; delivered %llu; link drops %llu "
-          "(partition %llu, loss %llu, saturated %llu); inbox drops %llu; rejected %llu",
+          "(partition %llu, loss %llu, saturated %llu); inbox drops %llu; rejected %llu; "
+          "duplicates %llu",
           qualified_name().c_str(), t.dds_topic.c_str(), t.local.c_str(),
           static_cast<unsigned long long>(t.received_samples),
           static_cast<unsigned long long>(t.received_bytes),
@@ -436,7 +447,8 @@ void DdsBridge::on_deactivate() {
           static_cast<unsigned long long>(t.dropped_loss),
           static_cast<unsigned long long>(t.dropped_saturated),
           static_cast<unsigned long long>(t.dropped_inbox),
-          static_cast<unsigned long long>(t.rejected_total()));
+          static_cast<unsigned long long>(t.rejected_total()),
+          static_cast<unsigned long long>(t.duplicates));
     }
   }
 }

@@ -204,6 +204,7 @@ class DdsBridge final : public Component {
   std::set<uint32_t> alive_, lost_;          // peers by presence
   // the executor thread (the driver's, under a step executor): what may be delivered
   std::map<MarkKey, uint64_t> released_;
+  std::map<std::pair<uint32_t, size_t>, uint64_t> last_seq_;  // per sender and topic: admitted
   std::vector<Incoming> held_;
 };
 
