@@ -113,6 +113,44 @@ TEST(IsePipeline, CompletesOnlyAfterTheLastInspectableIseStaysScanned) {
   EXPECT_FALSE(again.complete);
 }
 
+// Visited and still incomplete (docs/ise.md): given-up ISEs join C_rem, lose their
+// viewpoints, and the mission can complete without them; update() and full() agree.
+TEST(IsePipeline, GivenUpIsesJoinTheRemainingSetAndLoseTheirViewpoints) {
+  VoxelScene scene;
+  test::build_room(scene);
+  test::build_pocket(scene);
+  IsePipeline pipeline = make_pipeline();  // completion_updates = 2
+  const auto snap = scene.snapshot();
+  const IseResult& before = pipeline.update(*snap);
+  ASSERT_EQ(before.inspectable_count, 2u);
+  ASSERT_FALSE(before.viewpoints.empty());
+  std::vector<VoxelIndex> room;
+  for (const Ise& ise : before.ises)
+    if (test::kRoomIses.contains(key(ise.voxel))) room.push_back(ise.voxel);
+  ASSERT_EQ(room.size(), 2u);
+
+  // one of the two given up: the other keeps a viewpoint
+  pipeline.give_up({room[0]});
+  const IseResult& one = pipeline.update(*snap);
+  EXPECT_EQ(one.inspectable_count, 1u);
+  EXPECT_TRUE(voxels_at(one, one.remaining).contains(key(room[0])));
+  ASSERT_FALSE(one.viewpoints.empty());
+  for (const Viewpoint& v : one.viewpoints)
+    for (uint32_t id : v.seen) EXPECT_NE(key(one.ises[id].voxel), key(room[0]));
+
+  // both: no viewpoint, no cluster, complete after completion_updates
+  pipeline.give_up({room[1]});
+  const IseResult& both = pipeline.update(*snap);
+  EXPECT_EQ(both.inspectable_count, 0u);
+  EXPECT_EQ(both.remaining.size(), both.ises.size());
+  EXPECT_TRUE(both.viewpoints.empty());
+  EXPECT_TRUE(both.clusters.empty());
+  EXPECT_FALSE(both.complete);
+  EXPECT_TRUE(pipeline.update(*snap).complete);
+  EXPECT_EQ(pipeline.full(*snap).inspectable_count, 0u);
+  EXPECT_EQ(pipeline.given_up_count(), 2u);
+}
+
 TEST(IsePipeline, EmptyMapOrMapWithoutIsesNeverCompletes) {
   VoxelScene scene;
   IsePipeline pipeline = make_pipeline();
