@@ -67,6 +67,7 @@ HighLevelPlanner::Config HighLevelPlanner::read_config(ParamReader& p) {
   p.optional("final_iterations", c.options.final_iterations, {0, 1000000});
   p.optional("seed", c.options.seed);
   p.optional("min_replan_period_s", c.min_replan_period_s, {0, 1e6});
+  p.optional("idle_teammate_s", c.idle_teammate_s, {0, 1e6});
   c.roadmap = low_level::read_planner_config(p);
   return c;
 }
@@ -162,6 +163,12 @@ void HighLevelPlanner::on_clusters(const msg::ViewpointClusters& clusters) {
   plan(stamp, std::nullopt);
 }
 
+bool HighLevelPlanner::idle_too_long(size_t member) const {
+  const Member& m = members_[member];
+  return config_.idle_teammate_s > 0 && per_robot_ && m.id != robot_id() && m.idle_since_ns >= 0 &&
+         static_cast<double>(plan_stamp_ns_ - m.idle_since_ns) * 1e-9 >= config_.idle_teammate_s;
+}
+
 bool HighLevelPlanner::lost(size_t member) const {
   // a per-robot instance's own robot runs it: never lost to it
   return members_[member].mode == msg::RobotState::Mode::kLost &&
@@ -173,6 +180,11 @@ void HighLevelPlanner::on_robot_state(size_t member, const msg::RobotState& stat
   const bool was_lost = lost(member);
   const Mode before = members_[member].mode;
   members_[member].mode = state.mode;
+  const bool idle_now = state.mode == Mode::kIdle || state.mode == Mode::kDone;
+  if (!idle_now)
+    members_[member].idle_since_ns = -1;
+  else if (members_[member].idle_since_ns < 0)
+    members_[member].idle_since_ns = state.header.stamp_ns;
   // a kLost state is the bridge's word for a dead process: its pose means nothing
   const msg::Vec3& p = state.T_world_body.position;
   if (state.mode != Mode::kLost && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
@@ -206,7 +218,7 @@ std::vector<size_t> HighLevelPlanner::plan_members() const {
   std::vector<size_t> active;
   active.reserve(members_.size());
   for (size_t i = 0; i < members_.size(); ++i)
-    if (!lost(i)) active.push_back(i);
+    if (!lost(i) && !idle_too_long(i)) active.push_back(i);
   return active;
 }
 
@@ -274,6 +286,7 @@ PlannerOptions HighLevelPlanner::plan_options() {
 
 void HighLevelPlanner::plan(int64_t stamp_ns, std::optional<size_t> idle) {
   if (!clusters_) return;
+  plan_stamp_ns_ = stamp_ns;
   const auto start = std::chrono::steady_clock::now();
   // the members planned for (lost ones left out) and their PlanRobots, in the same order
   const std::vector<size_t> active = plan_members();

@@ -29,6 +29,11 @@
 //     in agreement). Any other state after kLost brings it back, with a re-plan of the team.
 //     A per-robot instance never counts its own robot lost. With every robot lost nothing
 //     is planned (logged once).
+//   idle_teammate_s > 0 (dist_tsga; not in the thesis): a teammate idle (kIdle or kDone)
+//     for that long is planned without as well, until it moves again. Each robot plans on
+//     its own map: a cluster this robot sees may be missing from the idle teammate's map,
+//     and the allocation that gives it to the teammate would leave it unvisited for good
+//     (seen as a stalled three-process arena run; docs/tsga.md).
 // min_replan_period_s (sim time, from the message stamps) bounds how often cluster updates
 // are planned; requests and idle robots are served at once.
 //
@@ -92,6 +97,7 @@ class HighLevelPlanner final : public Component {
     Penalties multirotor{.lambda_tc_per_m = 0.3, .lambda_ic_per_m = 0.03};
     PlannerOptions options;
     double min_replan_period_s = 0;
+    double idle_teammate_s = 0;  // dist_tsga: plan without a teammate idle this long; 0: never
     // inter_cluster_distance: roadmap: the low-level planner's keys (robot_type ignored:
     // the team's type decides)
     low_level::PlannerConfig roadmap;
@@ -122,6 +128,7 @@ class HighLevelPlanner final : public Component {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     double yaw_rad = 0;
     msg::RobotState::Mode mode = msg::RobotState::Mode::kIdle;
+    int64_t idle_since_ns = -1;  // -1: not idle (kIdle or kDone)
   };
 
   Result<void, std::string> on_configure() override;
@@ -130,6 +137,8 @@ class HighLevelPlanner final : public Component {
   void on_robot_state(size_t member, const msg::RobotState& state);
   // Whether the member's latest state is kLost (never this per-robot instance's own robot).
   bool lost(size_t member) const;
+  // A teammate idle for idle_teammate_s at plan_stamp_ns_ (dist_tsga, never the own robot).
+  bool idle_too_long(size_t member) const;
   // Plans from the latest clusters and publishes; `idle`: reallocate to that member only.
   void plan(int64_t stamp_ns, std::optional<size_t> idle);
   // The members planned for (those not lost), in member order, and their PlanRobots in the
@@ -145,6 +154,7 @@ class HighLevelPlanner final : public Component {
 
   Config config_;
   bool per_robot_ = false;
+  int64_t plan_stamp_ns_ = 0;  // the stamp of the plan being made (idle_too_long)
   std::vector<Member> members_;
   std::optional<msg::ViewpointClusters> clusters_;
   std::vector<PlanCluster> plan_clusters_;

@@ -465,6 +465,42 @@ TEST(HighLevelPlanner, TwoRobotsOneLostTheOtherTakesEveryCluster) {
   }
 }
 
+// dist_tsga, idle_teammate_s: a teammate idle that long is planned without (its map may
+// lack the clusters this robot sees), so robot 1 takes every cluster; without the rule its
+// share stays with the idle robot 2.
+TEST(HighLevelPlanner, DistTsgaPlansWithoutATeammateIdleTooLong) {
+  const msg::ViewpointClusters clusters = random_clusters(10, 21);
+  const std::string two = R"(
+  - {id: 1, namespace: r1, kind: ground, start: [-10, -10, 0, 0]}
+  - {id: 2, namespace: r2, kind: ground, start: [10, -10, 0, 0]})";
+  for (const double idle_s : {0.0, 5.0}) {
+    SCOPED_TRACE(idle_s);
+    g_script = {};
+    g_script.clusters_topic = "/shared_clusters";
+    g_script.clusters = {{0.2, clusters}, {7.0, clusters}};
+    g_script.states = {{0.1, 1, state_of(msg::RobotState::Mode::kIdle, {10, -10, 0})}};
+    PlanRun r = run(launch_text(two,
+                                "{name: hlp, type: high_level_planner, remap: {clusters: "
+                                "/shared_clusters}, params: {algorithm: dist_tsga, "
+                                "idle_teammate_s: " +
+                                    std::to_string(idle_s) + "}}",
+                                7.5));
+    std::vector<uint32_t> first, last;
+    for (const msg::TeamPlan& p : r.plans)
+      for (const msg::PathSequence& seq : p.sequences)
+        if (seq.robot_id == 1) {
+          if (first.empty()) first = seq.cluster_ids;
+          last = seq.cluster_ids;
+        }
+    ASSERT_FALSE(first.empty());
+    EXPECT_LT(first.size(), clusters.clusters.size()) << "robot 2 has a share at first";
+    if (idle_s > 0)
+      EXPECT_EQ(std::set<uint32_t>(last.begin(), last.end()).size(), clusters.clusters.size());
+    else
+      EXPECT_EQ(last, first);
+  }
+}
+
 // --- inter_cluster_distance: roadmap ---
 
 // One ground robot at (4, 1), left of a wall across x = 5 from y = 0 to 4.5 in a 10 × 6 m
