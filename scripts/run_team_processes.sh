@@ -5,6 +5,7 @@
 #
 #   scripts/run_team_processes.sh LAUNCH OUT [options] [-- extra scancrew options]
 #     --robots "1 2 3"   the robot ids to start (default: 1 2 3)
+#     --station          also start `scancrew station` (a centralized team)
 #     --kill K --at-s T  SIGKILL robot K's process once the simulator reports sim time >= T
 #     --timeout S        wall seconds before every process is stopped (default 1800)
 #     --bin PATH         the scancrew binary (default: build/release/cli/scancrew)
@@ -14,12 +15,13 @@ set -u
 launch=${1:?usage: run_team_processes.sh LAUNCH OUT [options]}
 out=${2:?usage: run_team_processes.sh LAUNCH OUT [options]}
 shift 2
-robots="1 2 3" kill_robot="" kill_at="" timeout_s=1800
+robots="1 2 3" kill_robot="" kill_at="" timeout_s=1800 station=0
 bin=${SCANCREW_BIN:-build/release/cli/scancrew}
 extra=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --robots) robots=$2; shift 2 ;;
+    --station) station=1; shift ;;
     --kill) kill_robot=$2; shift 2 ;;
     --at-s) kill_at=$2; shift 2 ;;
     --timeout) timeout_s=$2; shift 2 ;;
@@ -39,6 +41,12 @@ trap 'stop_all; exit 130' INT TERM
 sim_pid=$!
 pids+=("$sim_pid")
 declare -A robot_pid
+station_pid=""
+if [ "$station" = 1 ]; then
+  "$bin" station "$launch" --out "$out" "${extra[@]}" >"$out/station.log" 2>&1 &
+  station_pid=$!
+  pids+=("$station_pid")
+fi
 for k in $robots; do
   "$bin" robot "$launch" --robot "$k" --out "$out" "${extra[@]}" >"$out/robot_$k.log" 2>&1 &
   robot_pid[$k]=$!
@@ -72,12 +80,11 @@ while kill -0 "$sim_pid" 2>/dev/null; do
 done
 wait "$sim_pid"
 status=$?
-# the robots end when the simulator stops the run; give them a bound
-for k in $robots; do
-  p=${robot_pid[$k]}
+# the robots (and the station) end when the simulator stops the run; give them a bound
+for p in "${robot_pid[@]}" $station_pid; do
   for _ in $(seq 1 300); do kill -0 "$p" 2>/dev/null || break; sleep 0.2; done
   kill "$p" 2>/dev/null
   wait "$p" 2>/dev/null
 done
-cat "$out/sim.log" | tr '\r' '\n' | grep -E "^mission |^run directory|^dds " || true
+tr '\r' '\n' <"$out/sim.log" | grep -E "^mission |^run directory|^dds " || true
 exit "$status"
