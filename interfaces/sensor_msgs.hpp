@@ -29,8 +29,9 @@ struct Imu {
   Vec3 angular_velocity_radps;
 };
 
-// Depth along the optical axis, metres; NaN where unknown. Carries the camera pose at
-// capture so a consumer needs no pose lookup.
+// Depth along the optical axis, metres; as ROS REP 117: NaN where unknown, +inf where
+// nothing is within max_range_m (the mapper may clear that ray). Carries the camera pose
+// at capture so a consumer needs no pose lookup.
 struct DepthImage {
   static constexpr const char* kTypeName = "scancrew/DepthImage";
   Header header;

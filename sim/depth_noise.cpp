@@ -13,17 +13,22 @@ void apply_depth_noise(std::vector<float>& depth_m, uint32_t width, uint32_t hei
                        const DepthNoiseParams& p, std::mt19937_64& rng,
                        std::vector<float>& scratch) {
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  constexpr float kBeyond = std::numeric_limits<float>::infinity();
   const size_t n = size_t{width} * height;
-  // range gate first: the sensor does not see outside [min, max]
+  // range gate first (REP 117): nearer than min is no measurement (NaN); beyond max, or
+  // nothing up to the renderer's far plane (NaN in), is +inf: no return within range
   for (size_t i = 0; i < n; ++i) {
     const float z = depth_m[i];
-    if (!(z >= p.min_range_m && z <= p.max_range_m)) depth_m[i] = kNaN;
+    if (z < p.min_range_m)
+      depth_m[i] = kNaN;
+    else if (!(z <= p.max_range_m))
+      depth_m[i] = kBeyond;
   }
   if (p.add_noise) {
     std::normal_distribution<double> unit(0.0, 1.0);
     for (size_t i = 0; i < n; ++i) {
       const float z = depth_m[i];
-      if (std::isnan(z)) continue;
+      if (!std::isfinite(z)) continue;
       depth_m[i] = static_cast<float>(
           z + unit(rng) * depth_sigma_m(z, p.disparity_error_px, p.fx_px, p.baseline_m));
     }
@@ -34,8 +39,8 @@ void apply_depth_noise(std::vector<float>& depth_m, uint32_t width, uint32_t hei
   for (uint32_t y = 0; y < height; ++y) {
     for (uint32_t x = 0; x < width; ++x) {
       const float centre = depth_m[size_t{y} * width + x];
-      if (std::isnan(centre)) {
-        scratch[size_t{y} * width + x] = kNaN;
+      if (!std::isfinite(centre)) {
+        scratch[size_t{y} * width + x] = centre;
         continue;
       }
       float sum = 0, weight = 0;
@@ -46,7 +51,7 @@ void apply_depth_noise(std::vector<float>& depth_m, uint32_t width, uint32_t hei
           const int xx = static_cast<int>(x) + dx;
           if (xx < 0 || xx >= static_cast<int>(width)) continue;
           const float v = depth_m[static_cast<size_t>(yy) * width + static_cast<size_t>(xx)];
-          if (std::isnan(v)) continue;
+          if (!std::isfinite(v)) continue;
           const float w = kWeights[dy + 1] * kWeights[dx + 1];
           sum += w * v;
           weight += w;

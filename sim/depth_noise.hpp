@@ -2,8 +2,10 @@
 
 // The depth noise model of thesis 2.6.1: each valid pixel gets Gaussian noise of standard
 // deviation sigma(z) = |e_d| z^2 / (f B), then the map is smoothed with a 3x3 Gaussian
-// kernel ([1 2 1]^T [1 2 1] / 16, over valid neighbours only). Pixels outside
-// [min_range, max_range] become NaN. Deterministic for a given generator state.
+// kernel ([1 2 1]^T [1 2 1] / 16, over finite neighbours only). As ROS REP 117 has it,
+// pixels nearer than min_range become NaN (no measurement) and pixels beyond max_range, or
+// with nothing up to the far plane (NaN in), +inf (no return within range: the mapper may
+// clear the ray, TsdfConfig::clear_beyond_range). Deterministic for a given generator state.
 
 #include <cstdint>
 #include <random>

@@ -21,10 +21,13 @@ bool rigid(const Eigen::Isometry3d& T) {
          std::abs(rotation.determinant() - 1.0) < 1e-6;
 }
 
-// Inf and negative depths are refused; NaN is the "no measurement" marker.
+// Negative depths (−inf too) are refused; NaN is the "no measurement" marker and +inf
+// "no return within the sensor's range" (REP 117).
 bool bad_depth(float d) {
-  return d < 0 || d > std::numeric_limits<float>::max();
+  return d < 0;
 }
+
+constexpr float kBeyondRange = std::numeric_limits<float>::infinity();
 
 // Everything but the pixels.
 std::string check_header(const DepthFrame& f) {
@@ -42,7 +45,7 @@ std::string check_header(const DepthFrame& f) {
 std::string bad_pixel_message(const DepthFrame& f, size_t i) {
   return "depth value " + std::to_string(f.depth_m[i]) + " at pixel " +
          std::to_string(i % f.width) + ", " + std::to_string(i / f.width) +
-         " (NaN marks no measurement; inf and negative are refused)";
+         " (NaN marks no measurement, +inf no return within range; negative values are refused)";
 }
 
 }  // namespace
@@ -64,6 +67,10 @@ std::string Integrator::scan_tiles(const DepthFrame& f) {
   first_bad_.assign(static_cast<size_t>(tiles_y_), kNoPixel);
   const auto min_r = static_cast<float>(config_.min_range_m);
   const auto max_r = static_cast<float>(config_.max_range_m);
+  // a clearing ray writes up to max_r − μ along the axis
+  const float clear_r = config_.clear_beyond_range
+                            ? static_cast<float>(config_.max_range_m - config_.truncation_m)
+                            : -1.0f;
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_y_), [&](const tbb::blocked_range<int>& r) {
     for (int ty = r.begin(); ty != r.end(); ++ty) {
       float* tiles = tile_max_.data() + static_cast<size_t>(ty) * tiles_x_;
@@ -78,6 +85,7 @@ std::string Integrator::scan_tiles(const DepthFrame& f) {
             const float d = row[u];
             bad |= bad_depth(d);
             m = (d >= min_r && d <= max_r) ? std::max(m, d) : m;  // false for NaN
+            m = d == kBeyondRange ? std::max(m, clear_r) : m;
           }
           tiles[tx] = m;
         }
@@ -201,6 +209,8 @@ Result<IntegrationStats, std::string> Integrator::integrate(TsdfMap& map, const 
   const auto min_r = static_cast<float>(config_.min_range_m);
   const auto max_r = static_cast<float>(config_.max_range_m);
   const auto mu = static_cast<float>(config_.truncation_m);
+  const bool clear = config_.clear_beyond_range;
+  const float clear_r = max_r - mu;
   const auto w_max = static_cast<float>(config_.max_weight);
   const bool inverse_square = config_.weight == "inverse_square";
   const auto width = static_cast<float>(f.width), height = static_cast<float>(f.height);
@@ -229,10 +239,16 @@ Result<IntegrationStats, std::string> Integrator::integrate(TsdfMap& map, const 
                 if (!(uf >= 0 && vf >= 0 && uf < width && vf < height)) continue;
                 const float depth = f.depth_m[static_cast<size_t>(static_cast<int>(vf)) * f.width +
                                               static_cast<size_t>(static_cast<int>(uf))];
-                if (!(depth >= min_r && depth <= max_r)) continue;
-                // thesis 1.3.3: d along the viewing ray, |p|/z times the difference along
-                // the optical axis (≥ it), so the axis difference decides the clear cases
-                const float d_axis = depth - pz;
+                float d_axis = 0;
+                if (depth >= min_r && depth <= max_r) {
+                  // thesis 1.3.3: d along the viewing ray, |p|/z times the difference along
+                  // the optical axis (≥ it), so the axis difference decides the clear cases
+                  d_axis = depth - pz;
+                } else if (clear && depth == kBeyondRange && pz <= clear_r) {
+                  d_axis = mu;  // the surface lies beyond max_r: at least μ ahead of p
+                } else {
+                  continue;
+                }
                 if (d_axis < -mu) continue;
                 const float squared_norm = p.squaredNorm();
                 const float phi =

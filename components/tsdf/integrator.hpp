@@ -34,8 +34,9 @@
 namespace scancrew::tsdf {
 
 struct DepthFrame {
-  const float* depth_m = nullptr;  // row-major, width·height; NaN = no measurement
-  size_t size = 0;                 // elements behind depth_m
+  const float* depth_m =
+      nullptr;      // row-major, width·height; NaN: no measurement, +inf: none in range
+  size_t size = 0;  // elements behind depth_m
   uint32_t width = 0, height = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0;  // pixel (u, v) is at u = fx·x/z + cx
   Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();

@@ -14,6 +14,11 @@ struct TsdfConfig {
   double max_weight = 50.0;   // w saturates here (thesis 1.3.3: "up to a maximum amount")
   double min_range_m = 0.3;   // depth outside [min, max] is not integrated
   double max_range_m = 5.0;
+  // A +inf pixel (REP 117: no return within the sensor's range) says the ray is empty up to
+  // the range: with clearing on, voxels of that ray up to max_range_m − μ along the optical
+  // axis are written empty (φ = μ), as voxblox's clearing rays. Off: +inf is skipped like
+  // NaN. max_range_m must not exceed the sensor's own range then (docs/tsdf.md).
+  bool clear_beyond_range = false;
   std::string weight = "inverse_square";  // inverse_square (1/z², 3.4.1) | constant (1)
   int tile_px = 8;                        // block selection: depth tiles of tile_px² pixels
 

@@ -16,6 +16,8 @@ std::string TsdfConfig::validate() const {
   if (weight != "inverse_square" && weight != "constant")
     return "weight must be inverse_square or constant";
   if (tile_px < 1 || tile_px > 64) return "tile_px must be in [1, 64]";
+  if (clear_beyond_range && !(max_range_m > truncation_m))
+    return "clear_beyond_range needs max_range_m > truncation_m (rays clear up to max − μ)";
   return {};
 }
 

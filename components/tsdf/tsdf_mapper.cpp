@@ -37,6 +37,7 @@ TsdfMapper::Config TsdfMapper::read_config(ParamReader& p) {
   p.optional("max_weight", c.tsdf.max_weight, {1e-9, 1e9});
   p.optional("min_range_m", c.tsdf.min_range_m, {0, 1000});
   p.optional("max_range_m", c.tsdf.max_range_m, {0.01, 1000});
+  p.optional("clear_beyond_range", c.tsdf.clear_beyond_range);
   p.choice("weight", c.tsdf.weight, {"inverse_square", "constant"});
   p.optional("tile_px", c.tsdf.tile_px, {1, 64});
   if (auto problem = c.tsdf.validate(); !problem.empty()) p.report("voxel_m", problem);

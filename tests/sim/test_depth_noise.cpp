@@ -55,15 +55,20 @@ TEST(DepthNoise, NoiseHasTheModelledSpreadAndSmoothingReducesIt) {
   EXPECT_NEAR(stats_of(smooth, w, h).stddev, 0.375 * sigma, 0.05 * sigma);
 }
 
-TEST(DepthNoise, OutOfRangeAndNaNStayNaNAndDoNotLeakIntoNeighbours) {
-  const uint32_t w = 3, h = 1;
-  std::vector<float> d = {1.0f, std::numeric_limits<float>::quiet_NaN(), 50.0f}, scratch;
-  DepthNoiseParams p{.add_noise = false, .smoothing = true, .min_range_m = 0.3, .max_range_m = 5};
+TEST(DepthNoise, OutOfRangeFollowsRep117AndDoesNotLeakIntoNeighbours) {
+  const uint32_t w = 4, h = 1;
+  // in range; nothing up to the far plane (NaN from the renderer); beyond max; below min
+  std::vector<float> d = {1.0f, std::numeric_limits<float>::quiet_NaN(), 50.0f, 0.1f}, scratch;
+  DepthNoiseParams p{.add_noise = true, .smoothing = true, .min_range_m = 0.3, .max_range_m = 5};
+  p.fx_px = 100;
+  p.baseline_m = 0.1;
   std::mt19937_64 rng(1);
   apply_depth_noise(d, w, h, p, rng, scratch);
-  EXPECT_FLOAT_EQ(d[0], 1.0f);
-  EXPECT_TRUE(std::isnan(d[1]));
-  EXPECT_TRUE(std::isnan(d[2]));
+  EXPECT_TRUE(std::isfinite(d[0]));
+  EXPECT_NEAR(d[0], 1.0f, 0.1f);  // its neighbours are not finite: not averaged in
+  EXPECT_EQ(d[1], std::numeric_limits<float>::infinity());
+  EXPECT_EQ(d[2], std::numeric_limits<float>::infinity());
+  EXPECT_TRUE(std::isnan(d[3]));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "tests/sim/sim_fixtures.hpp"
 
@@ -54,16 +55,20 @@ TEST(Rendering, NoisyDepthWithNoiseOffEqualsGroundTruthInsideTheRange) {
   ASSERT_TRUE(sim->render_stereo(0, nullptr, &depth));
   msg::DepthImage gt = depth;
   sim->make_noisy_depth(0, depth);
-  size_t compared = 0;
+  size_t compared = 0, beyond = 0;
   for (size_t i = 0; i < gt.depth_m.size(); ++i) {
     if (gt.depth_m[i] >= 0.3 && gt.depth_m[i] <= 2.0) {
       EXPECT_FLOAT_EQ(depth.depth_m[i], gt.depth_m[i]);
       ++compared;
+    } else if (gt.depth_m[i] < 0.3) {
+      EXPECT_TRUE(std::isnan(depth.depth_m[i]));  // REP 117: no measurement
     } else {
-      EXPECT_TRUE(std::isnan(depth.depth_m[i]));
+      EXPECT_EQ(depth.depth_m[i], std::numeric_limits<float>::infinity());  // beyond range
+      ++beyond;
     }
   }
   EXPECT_GT(compared, 0u);  // the floor near the robot is in range
+  EXPECT_GT(beyond, 0u);    // the wall is not
 }
 
 // Sub-pixel horizontal shift of a patch of the left image in the right image (SAD with

@@ -1,5 +1,6 @@
 // The TSDF integrator against a plain per-voxel reference (every voxel of a dense box, the
-// same equations, no block selection), a plane reconstructed within e_max, bad frames
+// same equations, no block selection), with and without clearing rays (+inf pixels), a
+// plane reconstructed within e_max, bad frames
 // refused with the map unchanged, and copy-on-write snapshots.
 
 #include <gtest/gtest.h>
@@ -38,8 +39,14 @@ std::vector<Voxel> reference(const TsdfConfig& c, const std::vector<DepthFrame>&
           const long v = std::lround(f.fy * p.y() / p.z() + f.cy);
           if (u < 0 || v < 0 || u >= f.width || v >= f.height) continue;
           const double depth = f.depth_m[static_cast<size_t>(v) * f.width + u];
-          if (!(depth >= c.min_range_m && depth <= c.max_range_m)) continue;
-          const double d = (depth - p.z()) * p.norm() / p.z();  // along the viewing ray
+          double d = 0;  // along the viewing ray
+          if (depth >= c.min_range_m && depth <= c.max_range_m)
+            d = (depth - p.z()) * p.norm() / p.z();
+          else if (c.clear_beyond_range && depth == std::numeric_limits<double>::infinity() &&
+                   p.z() <= c.max_range_m - c.truncation_m)
+            d = c.truncation_m;  // a clearing ray: empty up to max − μ along the axis
+          else
+            continue;
           if (d < -c.truncation_m) continue;
           const double phi = std::min(d, c.truncation_m);
           const double wc = c.weight == "constant" ? 1.0 : 1.0 / p.squaredNorm();
@@ -61,6 +68,60 @@ TsdfConfig config() {
   return c;
 }
 
+struct Counts {
+  size_t observed = 0;  // voxels the reference writes
+  size_t cleared = 0;   // of those, empty with a pixel of +inf
+};
+
+// Integrates `frames` into a fresh map and checks every voxel of a box around the camera
+// against the reference: same distance and weight, nothing the reference writes missing,
+// nothing written outside the box.
+Counts integrate_and_compare(const TsdfConfig& c, const std::vector<DepthFrame>& frames) {
+  TsdfMap map(c);
+  Integrator integrator(c);
+  for (const DepthFrame& f : frames) EXPECT_TRUE(integrator.integrate(map, f));
+  const Eigen::Vector3i lo(-8, -60, -45), hi(60, 60, 45);
+  const std::vector<Voxel> ref = reference(c, frames, lo, hi);
+  TsdfConfig no_clear = c;
+  no_clear.clear_beyond_range = false;
+  const std::vector<Voxel> ref_no_clear = reference(no_clear, frames, lo, hi);
+  const auto snap = map.snapshot();
+  Counts counts;
+  size_t missing = 0;
+  double max_d = 0, max_w = 0;
+  const Eigen::Vector3i n = hi - lo;
+  for (int z = 0; z < n.z(); ++z)
+    for (int y = 0; y < n.y(); ++y)
+      for (int x = 0; x < n.x(); ++x) {
+        const size_t i = static_cast<size_t>(x + n.x() * (y + n.y() * z));
+        const Voxel& r = ref[i];
+        const Voxel* v = snap->voxel(lo + Eigen::Vector3i(x, y, z));
+        if (r.weight == 0) {
+          if (v != nullptr) {
+            EXPECT_EQ(v->weight, 0.0f);
+          }
+          continue;
+        }
+        ++counts.observed;
+        counts.cleared += ref_no_clear[i].weight == 0 ? 1 : 0;
+        if (v == nullptr) {
+          ++missing;
+          continue;
+        }
+        max_d = std::max(max_d, static_cast<double>(std::abs(v->distance_m - r.distance_m)));
+        max_w = std::max(max_w, static_cast<double>(std::abs(v->weight - r.weight) / r.weight));
+      }
+  EXPECT_EQ(missing, 0u);  // block selection drops nothing the reference integrates
+  EXPECT_LT(max_d, 1e-4);  // float vs double
+  EXPECT_LT(max_w, 1e-4);
+  for (const auto& [index, block] : snap->blocks())
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GE(index[k] * kBlockSide + kBlockSide, lo[k]);
+      EXPECT_LE(index[k] * kBlockSide, hi[k]);
+    }
+  return counts;
+}
+
 TEST(Integrator, AgreesWithAPlainPerVoxelReference) {
   const TsdfConfig c = config();
   // three views of a stepped wall from different places and headings
@@ -72,45 +133,34 @@ TEST(Integrator, AgreesWithAPlainPerVoxelReference) {
   const std::vector<DepthFrame> frames = {frame(d1, looking_along_x({0, 0, 0})),
                                           frame(d2, looking_along_x({0.45, 0.1, -0.05})),
                                           frame(d3, turned)};
-  TsdfMap map(c);
-  Integrator integrator(c);
-  for (const DepthFrame& f : frames) ASSERT_TRUE(integrator.integrate(map, f));
+  const Counts counts = integrate_and_compare(c, frames);
+  EXPECT_GT(counts.observed, 35000u);  // the case is not trivial (39 151 voxels)
+}
 
-  const Eigen::Vector3i lo(-8, -60, -45), hi(60, 60, 45);
-  const std::vector<Voxel> ref = reference(c, frames, lo, hi);
-  const auto snap = map.snapshot();
-  size_t observed = 0, missing = 0;
-  double max_d = 0, max_w = 0;
-  const Eigen::Vector3i n = hi - lo;
-  for (int z = 0; z < n.z(); ++z)
-    for (int y = 0; y < n.y(); ++y)
-      for (int x = 0; x < n.x(); ++x) {
-        const Voxel& r = ref[static_cast<size_t>(x + n.x() * (y + n.y() * z))];
-        const Voxel* v = snap->voxel(lo + Eigen::Vector3i(x, y, z));
-        if (r.weight == 0) {
-          if (v != nullptr) {
-            EXPECT_EQ(v->weight, 0.0f);
-          }
-          continue;
-        }
-        ++observed;
-        if (v == nullptr) {
-          ++missing;
-          continue;
-        }
-        max_d = std::max(max_d, static_cast<double>(std::abs(v->distance_m - r.distance_m)));
-        max_w = std::max(max_w, static_cast<double>(std::abs(v->weight - r.weight) / r.weight));
-      }
-  EXPECT_GT(observed, 35000u);  // the case is not trivial (39 151 voxels)
-  EXPECT_EQ(missing, 0u);       // block selection drops nothing the reference integrates
-  EXPECT_LT(max_d, 1e-4);       // float vs double
-  EXPECT_LT(max_w, 1e-4);
-  // nothing outside the reference box was written
-  for (const auto& [index, block] : snap->blocks())
-    for (int i = 0; i < 3; ++i) {
-      EXPECT_GE(index[i] * kBlockSide + kBlockSide, lo[i]);
-      EXPECT_LE(index[i] * kBlockSide, hi[i]);
-    }
+TEST(Integrator, ClearingRaysEmptyTheirRayUpToTheRangeLessMu) {
+  TsdfConfig c = config();
+  c.max_range_m = 2.5;
+  // a wall at 2 m on the left, nothing within range on the right (+inf, REP 117)
+  const std::vector<float> d =
+      wall_depth(2.0, 100, static_cast<double>(std::numeric_limits<float>::infinity()));
+  const std::vector<DepthFrame> frames = {frame(d, looking_along_x({0, 0, 0})),
+                                          frame(d, looking_along_x({0.3, 0.2, 0}))};
+  c.clear_beyond_range = false;
+  const Counts off = integrate_and_compare(c, frames);  // +inf skipped like NaN
+  c.clear_beyond_range = true;
+  const Counts on = integrate_and_compare(c, frames);
+  EXPECT_GT(off.observed, 5000u);
+  EXPECT_GT(on.cleared, 5000u);  // empty voxels on the +inf side
+  EXPECT_EQ(off.cleared, 0u);
+  EXPECT_GT(on.observed, off.observed + on.cleared / 2);
+}
+
+TEST(Integrator, ClearingNeedsARangeBeyondTheTruncation) {
+  TsdfConfig c = config();
+  c.clear_beyond_range = true;
+  c.min_range_m = 0.1;
+  c.max_range_m = 0.25;  // below μ = 0.3
+  EXPECT_NE(c.validate().find("clear_beyond_range"), std::string::npos) << c.validate();
 }
 
 TEST(Integrator, APlaneIsReconstructedWithinEmax) {
@@ -158,10 +208,10 @@ TEST(Integrator, BadFramesAreRefusedAndTheMapIsUnchanged) {
   const auto before = map.snapshot();
   const uint64_t sequence = map.sequence();
 
-  d[500] = std::numeric_limits<float>::infinity();
+  d[500] = -std::numeric_limits<float>::infinity();
   auto r = integrator.integrate(map, frame(d, looking_along_x({0, 0, 0})));
   ASSERT_FALSE(r);
-  EXPECT_NE(r.error().find("inf and negative are refused"), std::string::npos) << r.error();
+  EXPECT_NE(r.error().find("negative values are refused"), std::string::npos) << r.error();
   d[500] = -1;
   EXPECT_FALSE(integrator.integrate(map, frame(d, looking_along_x({0, 0, 0}))));
   d[500] = 2.0;
