@@ -70,16 +70,41 @@ struct TeamSim::Impl {
     return mj_name2id(model, type, name.c_str());
   }
 
-  void count_contacts(ContactCounts& counts) {
+  std::vector<ContactOnset> onsets;
+
+  void count_contacts(ContactCounts& counts, const std::vector<RobotSpec>& robots) {
     std::set<std::pair<int, int>> now;
     for (int i = 0; i < data->ncon; ++i) {
       const mjContact& c = data->contact[i];
       const int r1 = geom_robot[c.geom1], r2 = geom_robot[c.geom2];
       if (r1 < 0 && r2 < 0) continue;
       const auto key = std::minmax(c.geom1, c.geom2);
-      now.insert(key);
-      if (touching.count(key)) continue;
+      // one onset per pair: MuJoCo gives a box-box pair several contact points
+      if (!now.insert(key).second || touching.count(key)) continue;
       (r1 >= 0 && r2 >= 0 ? counts.robot_robot : counts.robot_scene)++;
+      if (onsets.size() >= TeamSim::kMaxPendingOnsets) continue;
+      const int robot = r1 >= 0 ? r1 : r2;
+      const int other_geom = r1 >= 0 ? c.geom2 : c.geom1;
+      const int other_robot = r1 >= 0 ? r2 : r1;
+      ContactOnset o;
+      o.t_s = data->time;
+      o.robot = static_cast<size_t>(robot);
+      if (other_robot >= 0) {
+        o.other = robots[static_cast<size_t>(other_robot)].name;
+      } else {
+        const char* body = mj_id2name(model, mjOBJ_BODY, model->geom_bodyid[other_geom]);
+        const char* geom = mj_id2name(model, mjOBJ_GEOM, other_geom);
+        o.other = geom != nullptr && *geom != '\0'   ? geom
+                  : body != nullptr && *body != '\0' ? body
+                                                     : "scene";
+      }
+      o.position = {c.pos[0], c.pos[1], c.pos[2]};
+      const auto b = static_cast<size_t>(ids[static_cast<size_t>(robot)].body);
+      const double* q = data->xquat + 4 * b;
+      o.robot_xy_yaw = {
+          data->xpos[3 * b], data->xpos[3 * b + 1],
+          std::atan2(2 * (q[0] * q[3] + q[1] * q[2]), 1 - 2 * (q[2] * q[2] + q[3] * q[3]))};
+      onsets.push_back(std::move(o));
     }
     touching.swap(now);
   }
@@ -266,8 +291,14 @@ void TeamSim::step_until(int64_t t_ns) {
       d->ctrl[ids.act_yaw] = std::clamp(ids.command.yaw_rate_radps, -2.0, 2.0);
     }
     mj_step(m, d);
-    impl_->count_contacts(contacts_);
+    impl_->count_contacts(contacts_, robots_);
   }
+}
+
+std::vector<ContactOnset> TeamSim::take_contact_onsets() {
+  std::vector<ContactOnset> out;
+  out.swap(impl_->onsets);
+  return out;
 }
 
 void TeamSim::set_velocity(size_t robot, const msg::VelocityCommand& command) {

@@ -37,6 +37,15 @@ struct ContactCounts {
   uint64_t robot_scene = 0;  // contact onsets between a robot and a scene solid
 };
 
+// One contact onset: where and with what a robot started touching something.
+struct ContactOnset {
+  double t_s = 0;
+  size_t robot = 0;        // robot index
+  std::string other;       // the scene solid's body name, or the other robot's name
+  msg::Vec3 position;      // contact point, world frame (m)
+  msg::Vec3 robot_xy_yaw;  // the robot's x, y (m) and yaw (rad) then
+};
+
 class TeamSim {
  public:
   // Fails with the cause: an invalid camera, a robot starting inside an obstacle or
@@ -88,6 +97,10 @@ class TeamSim {
   // frame, with the robot's noise.
   msg::Imu imu(size_t robot);
   ContactCounts contacts() const { return contacts_; }
+  // Onsets since the last call, oldest first; at most kMaxPendingOnsets are kept between
+  // calls (the counts above have them all).
+  std::vector<ContactOnset> take_contact_onsets();
+  static constexpr size_t kMaxPendingOnsets = 64;
 
  private:
   TeamSim() = default;

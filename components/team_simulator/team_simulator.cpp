@@ -39,6 +39,7 @@ TeamSimulator::Config TeamSimulator::read_config(ParamReader& p) {
   p.required("scene", c.scene);
   p.optional("physics_step_s", c.physics_step_s, {1e-4, 1});
   p.optional("command_timeout_s", c.command_timeout_s, {0, 3600});
+  p.optional("log_contacts", c.log_contacts, {0, 100000});
   p.optional("seed", c.seed);
   p.optional("publish_stereo", c.publish_stereo);
   p.optional("publish_depth", c.publish_depth);
@@ -141,6 +142,17 @@ void TeamSimulator::tick() {
                           qualified_name().c_str(), sim_->robot(i).id, config_.command_timeout_s);
       }
   sim_->step_until(now);
+  for (const sim::ContactOnset& o : sim_->take_contact_onsets()) {
+    if (contacts_logged_ >= config_.log_contacts) break;
+    ++contacts_logged_;
+    SCANCREW_LOG_WARN(
+        "%s: contact at %.2f s: robot %u (at %.2f, %.2f, yaw %.0f deg) touches %s at (%.2f, "
+        "%.2f, %.2f)%s",
+        qualified_name().c_str(), o.t_s, sim_->robot(o.robot).id, o.robot_xy_yaw.x,
+        o.robot_xy_yaw.y, o.robot_xy_yaw.z * 180.0 / M_PI, o.other.c_str(), o.position.x,
+        o.position.y, o.position.z,
+        contacts_logged_ == config_.log_contacts ? " (further contacts are counted only)" : "");
+  }
   for (size_t i = 0; i < ports_.size(); ++i) {
     RobotPorts& p = ports_[i];
     const sim::RobotSpec& robot = sim_->robot(i);

@@ -37,6 +37,9 @@ class TeamSimulator final : public Component {
     // a robot whose last velocity command is older than this stops (its motor controller's
     // watchdog: a robot whose process died does not drive on); 0: never
     double command_timeout_s = 0.5;
+    // the first this many contact onsets are logged with time, robot, solid and place
+    // (all are counted); 0: none
+    int log_contacts = 20;
     uint64_t seed = 1;
     bool publish_stereo = true, publish_depth = true, publish_depth_gt = false;
     sim::CameraSpec ground_camera, multirotor_camera;
@@ -70,6 +73,7 @@ class TeamSimulator final : public Component {
   std::unique_ptr<sim::TeamSim> sim_;
   std::vector<RobotPorts> ports_;
   uint64_t frames_ = 0, dropped_frames_ = 0;
+  int contacts_logged_ = 0;
 };
 
 }  // namespace scancrew::components

@@ -99,8 +99,23 @@ TEST(TeamSim, CountsRobotSceneAndRobotRobotContacts) {
   sim->set_velocity(0, command(0.5, 0, 0, 0));
   sim->set_velocity(1, command(0.5, 0, 0, 0));
   sim->step_until(5 * kSecond);
-  EXPECT_GE(sim->contacts().robot_scene, 1u);
-  EXPECT_GE(sim->contacts().robot_robot, 1u);
+  // one onset each, though MuJoCo gives a box against a box several contact points
+  EXPECT_EQ(sim->contacts().robot_scene, 1u);
+  EXPECT_EQ(sim->contacts().robot_robot, 1u);
+  const std::vector<ContactOnset> onsets = sim->take_contact_onsets();
+  ASSERT_EQ(onsets.size(), 2u);
+  for (const ContactOnset& o : onsets) {
+    EXPECT_GT(o.t_s, 1.0);
+    if (o.robot == 0) {
+      EXPECT_EQ(o.other, "wall");
+      EXPECT_NEAR(o.position.x, 2.9, 0.02);  // the wall's near face
+      EXPECT_NEAR(o.robot_xy_yaw.x, 2.9 - 0.22, 0.03);
+    } else {
+      EXPECT_EQ(o.robot, 1u);  // b drives into c
+      EXPECT_EQ(o.other, "c");
+    }
+  }
+  EXPECT_TRUE(sim->take_contact_onsets().empty());  // taken
   // pushing on does not count the same contact again
   const ContactCounts before = sim->contacts();
   sim->step_until(6 * kSecond);
