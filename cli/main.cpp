@@ -69,42 +69,38 @@ int main(int argc, char** argv) {
   CLI::App app{"scancrew: multi-robot 3D reconstruction (runtime, simulator, planners)"};
   app.require_subcommand(1);
 
+  // the options of a command that runs a launch file (run, and the parts of a split team)
+  const auto add_launch_options = [](CLI::App* cmd, scancrew::cli::RunOptions& o,
+                                     const char* out_help, const char* robots_help) {
+    cmd->add_option("launch", o.launch_path, "launch file (YAML)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--out", o.out_dir, out_help);
+    cmd->add_option("--set", o.sets,
+                    "override a parameter: name.key=value (a component's name, or run / executor)")
+        ->expected(1)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    cmd->add_option("--robots", o.robot_count, robots_help)
+        ->check(CLI::Range(size_t{1}, size_t{1000}));
+    cmd->add_option("--trace-events", o.trace_events,
+                    "missions: callbacks kept for trace.json (24 bytes each; 0: no tracing)")
+        ->capture_default_str();
+  };
+
   scancrew::cli::RunOptions run_options;
   auto* run = app.add_subcommand(
       "run", "compose a launch file and run it; a mission writes its run directory and report");
-  run->add_option("launch", run_options.launch_path, "launch file (YAML)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  run->add_option("--out", run_options.out_dir,
-                  "run directory ({out} in the launch file; default runs/<launch stem>)");
-  run->add_option("--set", run_options.sets,
-                  "override a parameter: name.key=value (a component's name, or run / executor)")
-      ->expected(1)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  run->add_option("--robots", run_options.robot_count,
-                  "run the first N robots of the launch file's robots: list (default: all)")
-      ->check(CLI::Range(size_t{1}, size_t{1000}));
-  run->add_option("--trace-events", run_options.trace_events,
-                  "missions: callbacks kept for trace.json (24 bytes each; 0: no tracing)")
-      ->capture_default_str();
+  add_launch_options(run, run_options,
+                     "run directory ({out} in the launch file; default runs/<launch stem>)",
+                     "run the first N robots of the launch file's robots: list (default: all)");
 
   // one process of a team split over processes (docs/processes.md)
   scancrew::cli::RunOptions part_options;
   const auto add_part = [&](const char* name, const char* what) {
     auto* cmd = app.add_subcommand(name, what);
-    cmd->add_option("launch", part_options.launch_path, "launch file (YAML)")
-        ->required()
-        ->check(CLI::ExistingFile);
-    cmd->add_option("--out", part_options.out_dir,
-                    "run directory, the same for every process of the team ({out})");
-    cmd->add_option("--set", part_options.sets, "override a parameter: name.key=value")
-        ->expected(1)
-        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-    cmd->add_option("--robots", part_options.robot_count,
-                    "the team: the first N robots of the launch file (the same in every process)")
-        ->check(CLI::Range(size_t{1}, size_t{1000}));
-    cmd->add_option("--trace-events", part_options.trace_events,
-                    "callbacks kept for trace.json (0: no tracing)");
+    add_launch_options(
+        cmd, part_options, "run directory, the same for every process of the team ({out})",
+        "the team: the first N robots of the launch file (the same in every process)");
     return cmd;
   };
   auto* sim_part = add_part(

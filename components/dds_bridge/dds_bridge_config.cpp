@@ -77,6 +77,16 @@ void read_topic_params(ParamReader& p, BridgedTopic& t) {
   p.optional("transient_local_" + t.key, t.qos.transient_local);
 }
 
+// A list of robot ids (whole numbers).
+void read_robot_ids(ParamReader& p, const char* key, std::vector<uint32_t>& out) {
+  std::vector<double> ids;
+  p.optional_list(key, ids, 0, {0, 4294967295.0});
+  for (const double id : ids) {
+    if (id != std::floor(id)) p.report(key, "robot ids are whole numbers");
+    out.push_back(static_cast<uint32_t>(id));
+  }
+}
+
 }  // namespace
 
 DdsBridge::Config DdsBridge::read_config(ParamReader& p) {
@@ -105,12 +115,7 @@ DdsBridge::Config DdsBridge::read_config(ParamReader& p) {
     p.report("import_prefix", "must be a non-empty relative name, e.g. 'remote/'");
   p.optional("lost_port", c.lost_port);
 
-  std::vector<double> team;
-  p.optional_list("team_ids", team, 0, {0, 4294967295.0});
-  for (const double id : team) {
-    if (id != std::floor(id)) p.report("team_ids", "robot ids are whole numbers");
-    c.team_ids.push_back(static_cast<uint32_t>(id));
-  }
+  read_robot_ids(p, "team_ids", c.team_ids);
   p.optional("max_sample_bytes", c.max_sample_bytes, {64, 4294967295.0});
   p.optional("inbox_samples", c.inbox_samples, {1, 1e7});
   p.optional("poll_period_s", c.poll_period_s, {1e-4, 1.0});
@@ -118,12 +123,7 @@ DdsBridge::Config DdsBridge::read_config(ParamReader& p) {
   p.optional("bridge_id", c.bridge_id, {-1, 4294967295.0});
   p.optional("simulator_id", c.simulator_id, {1, 4294967295.0});
   p.choice("lockstep", c.lockstep, {"none", "leader", "follower"});
-  std::vector<double> followers;
-  p.optional_list("lockstep_followers", followers, 0, {0, 4294967295.0});
-  for (const double id : followers) {
-    if (id != std::floor(id)) p.report("lockstep_followers", "robot ids are whole numbers");
-    c.lockstep_followers.push_back(static_cast<uint32_t>(id));
-  }
+  read_robot_ids(p, "lockstep_followers", c.lockstep_followers);
   p.optional("lockstep_timeout_s", c.lockstep_timeout_s, {0.1, 86400});
 
   p.optional("link_latency_s", c.link.latency_s, {0, 60});
