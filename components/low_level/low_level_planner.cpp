@@ -251,6 +251,7 @@ void LowLevelPlanner::tick() {
     mode_ = Mode::kPlanning;
   } else if (!tour_ || tour_->done()) {
     mode_ = Mode::kIdle;  // the high-level planner reallocates to an idle robot
+    make_way();
   } else if (!path_sent_) {
     if (!follow_checks()) plan_to_goal();
   } else {
@@ -459,31 +460,8 @@ void LowLevelPlanner::watch_motion() {
   }
   mode_ = Mode::kMoving;
   if (!config_.traffic_policy || teammates_.empty()) return;
-  std::vector<TrafficAgent> others;
-  for (const Teammate& t : teammates_) {
-    if (!t.seen || t.state.mode == Mode::kLost) continue;
-    TrafficAgent a;
-    a.id = t.id;
-    a.position = msg::to_eigen(t.state.T_world_body.position);
-    a.yaw_rad = yaw_of(t.state.T_world_body.orientation);
-    a.velocity_mps = msg::to_eigen(t.state.velocity_mps);
-    a.nominal_speed_mps = t.nominal_speed_mps;
-    a.body_radius_m = t.traffic_radius_m;
-    // a teammate still on its last path (it may be waiting for a plan meanwhile) has the
-    // rest of it ahead; one at rest off a path holds its place
-    const bool moving = t.state.mode == Mode::kMoving || a.velocity_mps.norm() > kMovingSpeedMps;
-    if (moving) a.path = remaining_path(t.local_path, a.position);
-    others.push_back(std::move(a));
-  }
-  TrafficAgent me = self_agent();
-  me.path = remaining_path(local_path_, me.position);  // without it the robot reads as holding
-  FreeSpaceSpec spec;
-  spec.kind = checks_.obstacle.kind;
-  spec.body_radius_m = me.body_radius_m;
-  spec.min_height_m = checks_.obstacle.min_height_m;
-  spec.max_height_m = checks_.obstacle.max_height_m;
-  const FreeSpaceQuery free = map_ ? free_space_query(map_, spec) : FreeSpaceQuery{};
-  const TrafficDecision d = traffic_->update(me, others, free, now_s());
+  const TrafficDecision d =
+      traffic_decision(remaining_path(local_path_, msg::to_eigen(pose_->T_world_body.position)));
   switch (d.action) {
     case TrafficAction::kProceed:
       break;
@@ -510,6 +488,56 @@ void LowLevelPlanner::watch_motion() {
   if (d.request_replan)
     request_replan(ReplanReason::kTrafficStuck, d.because_of_robot,
                    "held " + std::to_string(static_cast<int>(d.held_s)) + " s");
+}
+
+// The traffic policy's decision for this robot on `path` (its remaining local path; empty
+// for a robot holding its place) against every teammate's broadcast state.
+TrafficDecision LowLevelPlanner::traffic_decision(std::vector<Eigen::Vector3d> path) {
+  std::vector<TrafficAgent> others;
+  for (const Teammate& t : teammates_) {
+    if (!t.seen || t.state.mode == Mode::kLost) continue;
+    TrafficAgent a;
+    a.id = t.id;
+    a.position = msg::to_eigen(t.state.T_world_body.position);
+    a.yaw_rad = yaw_of(t.state.T_world_body.orientation);
+    a.velocity_mps = msg::to_eigen(t.state.velocity_mps);
+    a.nominal_speed_mps = t.nominal_speed_mps;
+    a.body_radius_m = t.traffic_radius_m;
+    // a teammate still on its last path (it may be waiting for a plan, or held by the
+    // traffic policy, meanwhile) has the rest of it ahead; one at rest off a path holds its
+    // place. (A held teammate read as parked made a deadlock: it waited for an idle robot in
+    // its way, which saw two parked robots and nothing to negotiate.)
+    const bool moving = t.state.mode == Mode::kMoving || t.state.mode == Mode::kWaiting ||
+                        a.velocity_mps.norm() > kMovingSpeedMps;
+    if (moving) a.path = remaining_path(t.local_path, a.position);
+    others.push_back(std::move(a));
+  }
+  TrafficAgent me = self_agent();
+  me.path = std::move(path);  // empty: the robot reads as holding its place
+  FreeSpaceSpec spec;
+  spec.kind = checks_.obstacle.kind;
+  spec.body_radius_m = me.body_radius_m;
+  spec.min_height_m = checks_.obstacle.min_height_m;
+  spec.max_height_m = checks_.obstacle.max_height_m;
+  const FreeSpaceQuery free = map_ ? free_space_query(map_, spec) : FreeSpaceQuery{};
+  return traffic_->update(me, others, free, now_s());
+}
+
+// An idle robot holds its place; when it blocks a teammate's way (traffic rule "blocking":
+// the holding robot steps aside, docs/traffic_policy.md) it steps aside and stays at the
+// aside point until its next path (plan_to_goal's kResume): a resume as soon as the policy
+// sees the way clear stopped it half-way, back within the teammate's clearance. Before this,
+// only a moving robot ran the policy, and a teammate whose goal lay past an idle robot
+// waited for it for ever (the parking lot's 3-robot centralized team, seed 2).
+void LowLevelPlanner::make_way() {
+  if (!config_.traffic_policy || teammates_.empty() || !map_) return;
+  if (last_maneuver_ == msg::Maneuver::Kind::kStepAside) return;
+  const TrafficDecision d = traffic_decision({});
+  if (d.action != TrafficAction::kStepAside) return;
+  ++stats_.traffic_holds;
+  send_maneuver(msg::Maneuver::Kind::kStepAside,
+                {.position = msg::to_msg(d.aside_point), .yaw_rad = d.aside_yaw_rad},
+                d.because_of_robot);
 }
 
 void LowLevelPlanner::publish_state() {

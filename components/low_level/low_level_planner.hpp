@@ -132,6 +132,8 @@ class LowLevelPlanner final : public Component {
   // backoff_max_m.
   std::optional<msg::Waypoint> escape_pose(const msg::Waypoint& start) const;
   void watch_motion();  // goal reached, obstacle, traffic
+  TrafficDecision traffic_decision(std::vector<Eigen::Vector3d> path);
+  void make_way();  // an idle robot steps aside for a teammate it blocks
   void take(const msg::PathSequence& sequence, uint64_t plan_id);
   void request_replan(ReplanReason reason, uint32_t because_of, const std::string& detail);
   void send_maneuver(msg::Maneuver::Kind kind, const msg::Waypoint& aside, uint32_t because);

@@ -661,6 +661,34 @@ TEST(TrafficScenarios, ACrossingRobotWaitsWhileTheOtherPasses) {
   expect_apart_and_clear_of_the_truth("crossing", scene, o);
 }
 
+TEST(TrafficScenarios, AnIdleRobotInTheWayStepsAside) {
+  // robot 2 drives 2 m west, turns north and is idle there, parked mid-corridor on robot
+  // 1's way (the planners' maps hold no teammate: depth_mask blanks it out)
+  const std::vector<RobotSetup> robots = {{1, {-4.5, 0, 0, 0}, {{4.5, 0, 0, 0}}},
+                                          {2, {2.5, 0, 0, 180}, {{0.5, 0, 0, 90}}}};
+  const std::string scene = scene_path("corridor.yaml");
+  const Outcome o = run_scenario(scene, robots, 60.0);
+  ASSERT_NE(o.probe, nullptr);
+  ASSERT_EQ(o.logs.size(), 2u);
+  EXPECT_EQ(o.planners[0]->stats().goals_reached, 1u);
+  EXPECT_EQ(o.trackers[0]->mode(), Mode::kDone);
+  const PoseProbe::Frame& last = o.probe->frames.back();
+  EXPECT_LT(distance_to(last.poses[0], robots[0].goals.back()), 0.1 + 1e-3);
+  EXPECT_EQ(o.contacts.robot_robot, 0u);
+  EXPECT_EQ(o.contacts.robot_scene, 0u);
+  // the idle robot stepped aside because of robot 1, once, and stayed off robot 1's way
+  const auto& ms = o.logs[1]->maneuvers;
+  const auto aside = std::find_if(ms.begin(), ms.end(), [](const RobotLog::Maneuver& m) {
+    return m.kind == ManeuverKind::kStepAside && m.because_of_robot == 1;
+  });
+  ASSERT_NE(aside, ms.end());
+  EXPECT_EQ(o.planners[1]->stats().traffic_holds, 1u);
+  EXPECT_GT(std::abs(last.poses[1].y()), 0.8);  // the clearance off the corridor's centre line
+  std::printf("[figures] idle in the way: robot 2 steps aside at %.1f s, robot 1 done at %.1f s\n",
+              aside->t_s, seconds(o.trackers[0]->done_stamp_ns()));
+  expect_apart_and_clear_of_the_truth("idle in the way", scene, o);
+}
+
 TEST(TrafficScenarios, TheEmergencyStopFiresBeforeAnUnseenBoxAndTheRobotGoesRound) {
   // facing away from the box; the goal lies behind it
   const std::vector<RobotSetup> robots = {{1, {0, 0, 0, 180}, {{3.2, 0, 0, 0}}}};
