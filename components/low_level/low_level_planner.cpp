@@ -74,6 +74,7 @@ LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
   p.optional("backoff_max_m", c.backoff_max_m, {0, 100});
   p.optional("backoff_step_m", c.backoff_step_m, {0.01, 10});
   p.optional("backoff_min_m", c.backoff_min_m, {0.01, 100});
+  p.optional("goal_nudge_max_m", c.goal_nudge_max_m, {0, 10});
   if (c.backoff_min_m > c.backoff_max_m) p.report("backoff_min_m", "must not exceed backoff_max_m");
   p.optional("ground_nominal_speed_mps", c.ground_nominal_speed_mps, {0.01, 100});
   p.optional("multirotor_nominal_speed_mps", c.multirotor_nominal_speed_mps, {0.01, 100});
@@ -351,6 +352,16 @@ void LowLevelPlanner::plan_to_goal() {
     request_replan(ReplanReason::kInfeasible, 0, r.message + ", no free pose near");
     return;
   }
+  if (r.status == PlanStatus::kGoalInCollision) {
+    if (auto w = nudged_goal(tour_->goal())) {
+      log_once("nudged", r.message +
+                             " (moved to the nearest free pose within goal_nudge_max_m; further "
+                             "such cases are counted)");
+      tour_->sequence.viewpoints[tour_->next] = *w;
+      ++stats_.goals_nudged;
+      return;  // planned at the next tick
+    }
+  }
   log_once(std::string(to_string(r.status)),
            r.message + " (that viewpoint is skipped; further such failures are counted)");
   ++tour_->next;
@@ -359,6 +370,20 @@ void LowLevelPlanner::plan_to_goal() {
   if (consecutive_failures_ >= config_.max_consecutive_failures || tour_->done())
     request_replan(ReplanReason::kInfeasible, 0,
                    std::to_string(consecutive_failures_) + " viewpoints without a path");
+}
+
+std::optional<msg::Waypoint> LowLevelPlanner::nudged_goal(const msg::Waypoint& goal) const {
+  constexpr int kDirections = 16;
+  for (double r = config_.backoff_step_m; r <= config_.goal_nudge_max_m + 1e-9;
+       r += config_.backoff_step_m)
+    for (int k = 0; k < kDirections; ++k) {
+      const double angle = 2 * M_PI * k / kDirections;
+      msg::Waypoint w = goal;
+      w.position.x += r * std::cos(angle);
+      w.position.y += r * std::sin(angle);
+      if (planner_->is_free(w)) return w;
+    }
+  return std::nullopt;
 }
 
 std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& start) const {
@@ -565,7 +590,7 @@ void LowLevelPlanner::on_deactivate() {
   SCANCREW_LOG_INFO(
       "%s: %llu tours, %llu goals reached, %llu skipped, %llu paths (%.1f ms mean, %.1f max), "
       "%llu replanning requests, %llu emergency stops, %llu back-offs, %llu traffic holds, %llu "
-      "redundancies, %.1f m travelled",
+      "redundancies, %.1f m travelled, %llu goals nudged",
       qualified_name().c_str(), static_cast<unsigned long long>(stats_.tours),
       static_cast<unsigned long long>(stats_.goals_reached),
       static_cast<unsigned long long>(stats_.goals_skipped),
@@ -577,7 +602,8 @@ void LowLevelPlanner::on_deactivate() {
       static_cast<unsigned long long>(stats_.emergency_stops),
       static_cast<unsigned long long>(stats_.backoffs),
       static_cast<unsigned long long>(stats_.traffic_holds),
-      static_cast<unsigned long long>(stats_.redundancies), stats_.path_length_m);
+      static_cast<unsigned long long>(stats_.redundancies), stats_.path_length_m,
+      static_cast<unsigned long long>(stats_.goals_nudged));
 }
 
 SCANCREW_REGISTER_COMPONENT(LowLevelPlanner, "low_level_planner")

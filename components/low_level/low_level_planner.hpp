@@ -77,6 +77,12 @@ class LowLevelPlanner final : public Component {
     // tries up), then plan. backoff_min_m must exceed the tracker's position tolerance
     // (0.1 m): a closer pose is "reached" without moving.
     double backoff_max_m = 1.0, backoff_step_m = 0.1, backoff_min_m = 0.2;
+    // a goal whose body overlaps an obstacle moves to the nearest free pose (same yaw) within
+    // this distance (rings backoff_step_m apart) before it is skipped: the ISE extractor's
+    // feasibility (voxel centres in a disc) and LazyPRM*'s (FCL, the voxel boxes against
+    // the ellipse) differ at the edges, and a skipped viewpoint came back in every new plan.
+    // 0: skip at once.
+    double goal_nudge_max_m = 0.3;
     // the traffic policy's view of every robot of the kind: nominal speed (table 5.3: 0.5
     // m/s ground; 2.6.1: 0.6 m/s multirotor) and the radius holding its body (the ground
     // robot of sim/robot_model.hpp: 0.44 x 0.40 m; a multirotor with rotors: 0.5 m)
@@ -100,6 +106,7 @@ class LowLevelPlanner final : public Component {
     uint64_t replans = 0;  // requests sent, all reasons
     uint64_t emergency_stops = 0;
     uint64_t backoffs = 0;       // starts in collision left by backing off
+    uint64_t goals_nudged = 0;   // goals in collision moved to a free pose near them
     uint64_t traffic_holds = 0;  // stop or step aside maneuvers
     uint64_t redundancies = 0;
     double plan_ms_sum = 0, plan_ms_max = 0;
@@ -131,6 +138,8 @@ class LowLevelPlanner final : public Component {
   // The nearest free pose clear of the teammates on rings backoff_min_m, + step, ... up to
   // backoff_max_m.
   std::optional<msg::Waypoint> escape_pose(const msg::Waypoint& start) const;
+  // The nearest free pose to `goal`, same yaw, within goal_nudge_max_m.
+  std::optional<msg::Waypoint> nudged_goal(const msg::Waypoint& goal) const;
   void watch_motion();  // goal reached, obstacle, traffic
   TrafficDecision traffic_decision(std::vector<Eigen::Vector3d> path);
   void make_way();  // an idle robot steps aside for a teammate it blocks
