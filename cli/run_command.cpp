@@ -286,7 +286,7 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
     j["coverage"] = number_or_null(coverage);
     if (p != planners.end()) j["goals_reached"] = p->second->stats().goals_reached;
     j["ises_left"] = r.ises_left;
-    j["state"] = r.have_state ? std::string(MissionMonitor::mode_name(r.mode)) : "starting";
+    j["state"] = r.have_state ? std::string(msg::to_string(r.mode)) : "starting";
     robots.push_back(std::move(j));
   }
   m["total_path_length_m"] = total_length;

@@ -101,6 +101,28 @@ struct RobotState {
   double path_length_m = 0;      // travelled so far
 };
 
+inline const char* to_string(RobotState::Mode mode) {
+  switch (mode) {
+    case RobotState::Mode::kIdle:
+      return "idle";
+    case RobotState::Mode::kPlanning:
+      return "planning";
+    case RobotState::Mode::kMoving:
+      return "moving";
+    case RobotState::Mode::kWaiting:
+      return "waiting";
+    case RobotState::Mode::kSteppingAside:
+      return "stepping-aside";
+    case RobotState::Mode::kStopped:
+      return "stopped";
+    case RobotState::Mode::kDone:
+      return "done";
+    case RobotState::Mode::kLost:
+      return "lost";
+  }
+  return "?";
+}
+
 struct MissionStatus {
   static constexpr const char* kTypeName = "scancrew/MissionStatus";
   enum class Phase : uint8_t { kStarting, kExploring, kDone, kAborted };

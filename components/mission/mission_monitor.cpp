@@ -14,32 +14,6 @@ namespace {
 
 using Mode = msg::RobotState::Mode;
 
-}  // namespace
-
-std::string_view MissionMonitor::mode_name(Mode mode) {
-  switch (mode) {
-    case Mode::kIdle:
-      return "idle";
-    case Mode::kPlanning:
-      return "planning";
-    case Mode::kMoving:
-      return "moving";
-    case Mode::kWaiting:
-      return "waiting";
-    case Mode::kSteppingAside:
-      return "stepping-aside";
-    case Mode::kStopped:
-      return "stopped";
-    case Mode::kDone:
-      return "done";
-    case Mode::kLost:
-      return "lost";
-  }
-  return "?";
-}
-
-namespace {
-
 double yaw_of(const msg::Pose3& pose) {
   const Eigen::Matrix3d rotation = msg::to_eigen(pose).linear();
   return std::atan2(rotation(1, 0), rotation(0, 0));
@@ -322,7 +296,7 @@ std::string MissionMonitor::status_line() const {
   for (const RobotProgress& r : robots_) {
     std::string cov = r.coverage >= 0 ? std::to_string(std::lround(100 * r.coverage)) + " %" : "-";
     std::snprintf(buf, sizeof buf, "%s%s %s %s %s ISE", line.empty() ? "" : " | ", r.ns.c_str(),
-                  r.have_state ? std::string(mode_name(r.mode)).c_str() : "starting", cov.c_str(),
+                  r.have_state ? msg::to_string(r.mode) : "starting", cov.c_str(),
                   r.have_ises ? std::to_string(r.ises_left).c_str() : "-");
     line += buf;
   }

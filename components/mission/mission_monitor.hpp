@@ -79,7 +79,6 @@ class MissionMonitor final : public Component {
   };
 
   MissionMonitor(ComponentContext context, Config config);
-  static std::string_view mode_name(msg::RobotState::Mode mode);
 
   const Config& config() const { return config_; }
   // Thread-safe snapshots of what was observed (the executor may run in another thread).
