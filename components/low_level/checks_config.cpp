@@ -46,6 +46,7 @@ ChecksConfig read_checks_config(ParamReader& p, RobotKind kind) {
   p.optional("traffic_aside_extra_m", t.aside_extra_m, kNonNegative);
   p.optional("traffic_aside_max_m", t.aside_max_m, {0, 100});
   p.optional("traffic_aside_step_m", t.aside_step_m, {0.01, 10});
+  p.optional("traffic_aside_min_move_m", t.aside_min_move_m, {0, 10});
   p.optional("traffic_wait_until_out_of_view", t.wait_until_out_of_view);
   p.optional("traffic_fov_deg", t.fov_deg, {1, 360});
   p.optional("traffic_max_wait_s", t.max_wait_s, {0.1, 1e6});

@@ -498,6 +498,7 @@ void LowLevelPlanner::watch_motion() {
     case TrafficAction::kStepAside:
       if (last_maneuver_ != msg::Maneuver::Kind::kStepAside) {
         ++stats_.traffic_holds;
+        aside_sent_ = AsideSent{.point = d.aside_point, .at_s = now_s()};
         send_maneuver(msg::Maneuver::Kind::kStepAside,
                       {.position = msg::to_msg(d.aside_point), .yaw_rad = d.aside_yaw_rad},
                       d.because_of_robot);
@@ -545,7 +546,37 @@ TrafficDecision LowLevelPlanner::traffic_decision(std::vector<Eigen::Vector3d> p
   spec.min_height_m = checks_.obstacle.min_height_m;
   spec.max_height_m = checks_.obstacle.max_height_m;
   const FreeSpaceQuery free = map_ ? free_space_query(map_, spec) : FreeSpaceQuery{};
-  return traffic_->update(me, others, free, now_s());
+  TrafficDecision d = traffic_->update(me, others, free, now_s());
+  log_traffic(d);
+  return d;
+}
+
+void LowLevelPlanner::log_traffic(const TrafficDecision& d) {
+  if (log::threshold() < log::Level::kDebug) return;
+  const bool new_aside = d.action == TrafficAction::kStepAside &&
+                         (d.aside_point - last_traffic_.aside_point).norm() > 0.05;
+  if (d.action == last_traffic_.action && d.encounter == last_traffic_.encounter &&
+      d.because_of_robot == last_traffic_.because_of_robot && !new_aside)
+    return;
+  last_traffic_ = d;
+  const msg::Vec3& p = pose_->T_world_body.position;
+  std::string mates;
+  for (const Teammate& t : teammates_) {
+    if (!t.seen) continue;
+    const msg::Vec3& q = t.state.T_world_body.position;
+    char buf[96];
+    std::snprintf(buf, sizeof buf, " r%u %s at (%.2f, %.2f) %.2f m", t.id,
+                  msg::to_string(t.state.mode), q.x, q.y, std::hypot(q.x - p.x, q.y - p.y));
+    mates += buf;
+  }
+  char to[48] = "";
+  if (d.action == TrafficAction::kStepAside)
+    std::snprintf(to, sizeof to, " to (%.2f, %.2f)", d.aside_point.x(), d.aside_point.y());
+  SCANCREW_LOG_DEBUG(
+      "%s: t %.1f s traffic %s%s%s (%s, robot %u, held %.1f s) at (%.2f, %.2f), mode %s;%s",
+      qualified_name().c_str(), now_s(), to_string(d.action), to,
+      d.no_aside_point ? " (no aside point)" : "", to_string(d.encounter), d.because_of_robot,
+      d.held_s, p.x, p.y, msg::to_string(mode_), mates.c_str());
 }
 
 // An idle robot holds its place; when it blocks a teammate's way (traffic rule "blocking":
@@ -554,12 +585,24 @@ TrafficDecision LowLevelPlanner::traffic_decision(std::vector<Eigen::Vector3d> p
 // sees the way clear stopped it half-way, back within the teammate's clearance. Before this,
 // only a moving robot ran the policy, and a teammate whose goal lay past an idle robot
 // waited for it for ever (the parking lot's 3-robot centralized team, seed 2).
+// Once there (within GoalReached's tolerance, or after max_wait_s on the way), it looks
+// again: a teammate whose path has changed since may still find it in the way (the parking
+// lot's distributed pair: robot 2 held for 300 s beside robot 1 at its first aside point).
 void LowLevelPlanner::make_way() {
   if (!config_.traffic_policy || teammates_.empty() || !map_) return;
-  if (last_maneuver_ == msg::Maneuver::Kind::kStepAside) return;
+  if (last_maneuver_ == msg::Maneuver::Kind::kStepAside) {
+    if (!aside_sent_) return;
+    const double to_go =
+        (msg::to_eigen(pose_->T_world_body.position) - aside_sent_->point).head<2>().norm();
+    if (to_go > checks_.goal.position_tolerance_m &&
+        now_s() - aside_sent_->at_s < checks_.traffic.max_wait_s)
+      return;           // on the way
+    traffic_->reset();  // from here, a new aside point if still in the way
+  }
   const TrafficDecision d = traffic_decision({});
   if (d.action != TrafficAction::kStepAside) return;
   ++stats_.traffic_holds;
+  aside_sent_ = AsideSent{.point = d.aside_point, .at_s = now_s()};
   send_maneuver(msg::Maneuver::Kind::kStepAside,
                 {.position = msg::to_msg(d.aside_point), .yaw_rad = d.aside_yaw_rad},
                 d.because_of_robot);

@@ -151,6 +151,8 @@ class LowLevelPlanner final : public Component {
   TrafficAgent self_agent() const;
   double now_s();
   void log_once(const std::string& key, const std::string& message);
+  // At debug level (SCANCREW_LOG=debug): each change of the traffic decision, with why.
+  void log_traffic(const TrafficDecision& d);
 
   Config config_;
   ChecksConfig checks_;
@@ -178,6 +180,12 @@ class LowLevelPlanner final : public Component {
   uint64_t local_path_id_ = 0;
   msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
   msg::Maneuver::Kind last_maneuver_ = msg::Maneuver::Kind::kResume;
+  TrafficDecision last_traffic_;  // the last one logged (log_traffic)
+  struct AsideSent {
+    Eigen::Vector3d point;
+    double at_s = 0;
+  };
+  std::optional<AsideSent> aside_sent_;  // an idle robot's last step-aside (make_way)
 
   Publisher<msg::LocalPath> path_pub_;
   Publisher<msg::Maneuver> maneuver_pub_;

@@ -28,6 +28,7 @@ std::string TrafficConfig::validate() const {
   if (!(aside_extra_m >= 0)) add("aside_extra_m must be >= 0");
   if (!(aside_step_m > 0)) add("aside_step_m must be > 0");
   if (!(aside_max_m >= aside_extra_m)) add("aside_max_m must be >= aside_extra_m");
+  if (!(aside_min_move_m >= 0)) add("aside_min_move_m must be >= 0");
   if (!(fov_deg > 0 && fov_deg <= 360)) add("fov_deg must be in (0, 360]");
   if (!(max_wait_s > 0)) add("max_wait_s must be > 0");
   return e;
@@ -221,29 +222,52 @@ bool TrafficPolicy::find_aside_point(const TrafficAgent& self,
         return false;
     return true;
   };
+  // free, reachable in a straight line, and `extra` beyond the clearance of every
+  // teammate's path (the priority robot's whole path, the others' up to the horizon)
+  auto fits = [&](const Eigen::Vector3d& q, double extra) {
+    // a point within the tracker's position tolerance would be "reached" without a move,
+    // and the robot would stay in the way (the parking lot's distributed pair, 0.09 m)
+    if ((q - self.position).norm() < config_.aside_min_move_m) return false;
+    if (!free(q) || !segment_free(q)) return false;
+    for (const TrafficAgent& j : teammates) {
+      if (j.id == self.id || !finite(j)) continue;
+      own_.assign(j.position, j.path,
+                  j.id == priority.id ? std::numeric_limits<double>::infinity() : horizon(self, j),
+                  planar);
+      if (own_.closest(q).distance_m < clearance(self, j, config_) + extra) return false;
+    }
+    return true;
+  };
+  const int lateral_count =
+      static_cast<int>(
+          std::floor((config_.aside_max_m - config_.aside_extra_m) / config_.aside_step_m + 1e-9)) +
+      1;
   for (size_t d = 0; d < dir_count; ++d) {
-    const int lateral_count =
-        static_cast<int>(std::floor(
-            (config_.aside_max_m - config_.aside_extra_m) / config_.aside_step_m + 1e-9)) +
-        1;
     for (int i = 0; i < lateral_count; ++i) {
       const double lateral = clear + config_.aside_extra_m + i * config_.aside_step_m;
       Eigen::Vector3d q = q0 + dirs[d] * lateral;
       if (planar) q.z() = self.position.z();
-      if (!free(q) || !segment_free(q)) continue;
-      bool ok = true;
-      for (const TrafficAgent& j : teammates) {
-        if (j.id == self.id || !finite(j)) continue;
-        own_.assign(
-            j.position, j.path,
-            j.id == priority.id ? std::numeric_limits<double>::infinity() : horizon(self, j),
-            planar);
-        if (own_.closest(q).distance_m < clearance(self, j, config_)) {
-          ok = false;
-          break;
-        }
+      if (fits(q, 0.0)) {
+        aside = q;
+        return true;
       }
-      if (ok) {
+    }
+  }
+  // Neither side of the priority robot's path: an obstacle on one, the path itself on the
+  // other (its goal right beside this robot: the parking lot's distributed pair held each
+  // other for 300 s). Then any direction around the robot, nearest first, starting from
+  // the preferred side, out to the same reach; as far from the paths as the lateral points
+  // (aside_extra_m beyond the clearance).
+  constexpr int kRingDirections = 16;
+  const double side_angle = std::atan2(side * n.y(), side * n.x());
+  const double reach = clear + config_.aside_max_m;
+  for (double r = config_.aside_step_m; r <= reach + 1e-9; r += config_.aside_step_m) {
+    for (int k = 0; k < kRingDirections; ++k) {
+      const int turn = k % 2 == 0 ? k / 2 : -(k + 1) / 2;
+      const double angle = side_angle + 2 * std::numbers::pi * turn / kRingDirections;
+      const Eigen::Vector3d q =
+          self.position + r * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
+      if (fits(q, config_.aside_extra_m)) {
         aside = q;
         return true;
       }

@@ -71,6 +71,9 @@ struct TrafficConfig {
   double aside_extra_m = 0.05;
   double aside_max_m = 1.0;
   double aside_step_m = 0.1;
+  // no aside point nearer the robot than this: one within the tracker's position tolerance
+  // (0.1 m) would be "reached" without a move
+  double aside_min_move_m = 0.2;
   bool wait_until_out_of_view = true;
   double fov_deg = 90.0;     // horizontal camera FOV (table 5.3)
   double max_wait_s = 30.0;  // a longer hold asks for re-planning

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -152,6 +153,32 @@ TEST(TrafficPolicy, WithoutRoomToStepAsideItStopsAndSaysSo) {
   // no free-space query at all: the same
   TrafficPolicy pb2(kGround);
   EXPECT_TRUE(pb2.update(b, std::vector{a}, FreeSpaceQuery{}, 0.0).no_aside_point);
+}
+
+TEST(TrafficPolicy, WhenNeitherSideOfThePathHasRoomItStepsAsideAnotherWay) {
+  // The parking lot's distributed pair: an idle robot with a wall at its back; the
+  // teammate's path turns beside it, toward a goal 0.6 m from its centre. Across the path
+  // lies the path itself, behind the robot the wall; east along the wall there is room.
+  const TrafficAgent idle = agent(1, {0, 0, 0}, 0, {}, 0.0);
+  const TrafficAgent mover = agent(2, {0.3, -1.5, 0}, kPi / 2, {{0.3, -0.6, 0}, {-1.5, -0.6, 0}});
+  const FreeSpaceQuery wall_north_box_south = [](const Eigen::Vector3d& p) {
+    return p.y() <= 0.0 && p.y() >= -2.0;
+  };
+  TrafficPolicy p(kGround);
+  const TrafficDecision d = p.update(idle, std::vector{mover}, wall_north_box_south, 0.0);
+  ASSERT_EQ(d.action, TrafficAction::kStepAside);
+  EXPECT_EQ(d.encounter, Encounter::kBlocking);
+  EXPECT_FALSE(d.no_aside_point);
+  EXPECT_TRUE(wall_north_box_south(d.aside_point));
+  // clear of the teammate's whole path by the clearance (0.3 + 0.3 + 0.2 m) and
+  // aside_extra_m (0.05)
+  Polyline path;
+  path.assign(mover.position, mover.path, std::numeric_limits<double>::infinity(), true);
+  EXPECT_GE(path.closest(d.aside_point).distance_m, 0.85);
+  // the nearest such point on 0.1 m rings from aside_min_move_m (0.2 m): 1 m east along the
+  // wall, 0.86 m from the path's corner
+  EXPECT_NEAR(d.aside_point.x(), 1.0, 1e-6);
+  EXPECT_NEAR(d.aside_point.y(), 0.0, 1e-6);
 }
 
 TEST(TrafficPolicy, ABodyInTheCorridorStopsEvenThePriorityRobot) {
