@@ -266,8 +266,10 @@ int run_sweep(const SweepOptions& o) {
   else if (!plan->seed_keys.empty())
     keys = plan->seed_keys;
 
-  // architecture x robots x seed; "single" is one robot whatever --robots says, and a team
-  // larger than a launch file lists is skipped for its architecture (said once)
+  // architecture x robots x seed; "single" is one robot whatever --robots says, a team
+  // larger than a launch file lists is skipped for its architecture (said once), and so is
+  // a team of one beside a "single" row: it would run the single robot again
+  const bool has_single = std::find(archs.begin(), archs.end(), "single") != archs.end();
   std::vector<PlannedRun> runs;
   for (const std::string& arch : archs) {
     const std::string& launch = plan->launch_of[arch];
@@ -278,10 +280,11 @@ int run_sweep(const SweepOptions& o) {
       return 2;
     }
     const size_t most = arch == "single" ? 1 : team.listed;
+    const size_t least = arch != "single" && has_single ? 2 : 1;
     std::vector<size_t> teams, skipped;
     for (const size_t n : o.robots.empty() ? std::vector<size_t>{team.runs} : o.robots) {
       if (std::find(teams.begin(), teams.end(), n) != teams.end()) continue;
-      if (n <= most)
+      if (n >= least && n <= most)
         teams.push_back(n);
       else if (std::find(skipped.begin(), skipped.end(), n) == skipped.end())
         skipped.push_back(n);
@@ -291,11 +294,12 @@ int run_sweep(const SweepOptions& o) {
       std::vector<std::string> names;
       names.reserve(skipped.size());
       for (const size_t n : skipped) names.push_back(std::to_string(n));
+      const std::string why = arch == "single"
+                                  ? "1 robot only"
+                                  : launch + " lists " + std::to_string(team.listed) + " robots" +
+                                        (least > 1 ? "; 1 robot is the single row" : "");
       std::fprintf(stderr, "scancrew sweep: %s: %s (robots %s skipped for it)\n", arch.c_str(),
-                   arch == "single"
-                       ? "1 robot only"
-                       : (launch + " lists " + std::to_string(team.listed) + " robots").c_str(),
-                   join(names, ",").c_str());
+                   why.c_str(), join(names, ",").c_str());
     }
     for (const size_t n : teams)
       for (int seed = 1; seed <= o.seeds; ++seed)
