@@ -57,6 +57,7 @@ PathTracker::Config PathTracker::read_config(ParamReader& p) {
   p.optional("turn_in_place_deg", turn_deg, {1, 180});
   c.ground.turn_in_place_rad = turn_deg * kDegToRad;
   p.optional("align_radius_m", c.ground.align_radius_m, {0, 10});
+  p.optional("ground_reverse_max_m", c.ground.reverse_max_m, {0, 10});
   p.optional("multirotor_max_speed_mps", c.multirotor.max_speed_mps, {0.01, 20});
   p.optional("multirotor_max_vertical_speed_mps", c.multirotor.max_vertical_speed_mps, {0.01, 20});
   p.optional("multirotor_max_yaw_rate_radps", c.multirotor.max_yaw_rate_radps, {0.01, 20});
@@ -67,6 +68,7 @@ PathTracker::Config PathTracker::read_config(ParamReader& p) {
   if (c.ground.align_radius_m > c.position_tolerance_m)
     p.report("align_radius_m", "must not exceed position_tolerance_m (the robot would stop short)");
   p.optional("pose_timeout_s", c.pose_timeout_s, {0.01, 100});
+  p.optional("lost_turn_rate_radps", c.lost_turn_rate_radps, {0, 5});
   p.optional("predict_pose", c.predict_pose);
   p.optional("new_plan_resumes", c.new_plan_resumes);
   return c;
@@ -136,9 +138,13 @@ void PathTracker::on_pose(const msg::Odometry& odom) {
   pose_seen_ = true;
   if (odom.tracking_quality <= 0 || !finite(odom.T_world_body)) {
     pose_valid_ = false;
-    warn_once(logged_lost_, "no usable pose (NaN or tracking lost): holding still");
+    tracking_lost_ = odom.tracking_quality <= 0 && finite(odom.T_world_body);
+    warn_once(logged_lost_, ground_ && tracking_lost_ && config_.lost_turn_rate_radps > 0
+                                ? "tracking lost: turning on the spot until it resumes"
+                                : "no usable pose (NaN or tracking lost): holding still");
     return;
   }
+  tracking_lost_ = false;
   const Eigen::Vector3d position = msg::to_eigen(odom.T_world_body.position);
   if (have_pose_) travelled_m_ += (position - last_position_).norm();
   last_position_ = position;
@@ -202,13 +208,25 @@ std::pair<double, double> PathTracker::errors_to(const Eigen::Isometry3d& T_worl
   return {d.norm(), std::abs(std::remainder(w.yaw_rad - yaw_of(T_world_body.linear()), 2 * M_PI))};
 }
 
+bool PathTracker::reverse_to(const Eigen::Isometry3d& T_world_body,
+                             const msg::Waypoint& goal) const {
+  if (!ground_ || config_.ground.reverse_max_m <= 0) return false;
+  const Eigen::Vector2d d = (msg::to_eigen(goal.position) - T_world_body.translation()).head<2>();
+  if (d.norm() > config_.ground.reverse_max_m) return false;
+  const double yaw = yaw_of(T_world_body.linear());
+  if (d.dot(Eigen::Vector2d(std::cos(yaw), std::sin(yaw))) >= 0) return false;  // ahead
+  return std::abs(std::remainder(goal.yaw_rad - yaw, 2 * M_PI)) <= config_.ground.turn_in_place_rad;
+}
+
 void PathTracker::steer(const Eigen::Isometry3d& T_world_body, const Eigen::Vector3d& target_m,
-                        double target_yaw_rad, msg::VelocityCommand& cmd) {
+                        double target_yaw_rad, const msg::Waypoint& goal, bool may_reverse,
+                        msg::VelocityCommand& cmd) {
   Eigen::Vector3d target = target_m;
   if (ground_) target.z() = T_world_body.translation().z();
   const LawOutput law = law_.compute(T_world_body, level_pose(target, target_yaw_rad));
   if (ground_) {
-    const UnicycleCommand u = to_unicycle(law, config_.ground);
+    const UnicycleCommand u =
+        to_unicycle(law, config_.ground, may_reverse && reverse_to(T_world_body, goal));
     cmd.linear_mps = {u.v_mps, 0.0, 0.0};
     cmd.yaw_rate_radps = u.omega_radps;
   } else {
@@ -233,6 +251,11 @@ void PathTracker::on_tick() {
     mode = Mode::kStopped;
   } else if (!pose_fresh) {
     mode = pose_seen_ ? Mode::kLost : Mode::kIdle;  // kIdle: no pose message yet
+    // a ground robot whose odometry lost track turns on the spot: the same view (a blank
+    // wall, a plain box face) would never give it back, and a turn in place is what the
+    // odometry bridges best (the gyro turns its last pose; the position does not move)
+    if (ground_ && tracking_lost_ && !pose_valid_)
+      cmd.yaw_rate_radps = config_.lost_turn_rate_radps;
   } else {
     const Eigen::Isometry3d T_world_body = predicted_pose(now);
     if (order_ == Order::kStepAside) {
@@ -241,7 +264,7 @@ void PathTracker::on_tick() {
         mode = Mode::kWaiting;
       } else {
         mode = Mode::kSteppingAside;
-        steer(T_world_body, msg::to_eigen(aside_.position), aside_.yaw_rad, cmd);
+        steer(T_world_body, msg::to_eigen(aside_.position), aside_.yaw_rad, aside_, true, cmd);
       }
     } else if (!have_plan_ || !path_ok_) {
       mode = Mode::kIdle;
@@ -265,7 +288,11 @@ void PathTracker::on_tick() {
                           dyaw / kDegToRad, travelled_m_);
       } else {
         mode = Mode::kMoving;
-        steer(T_world_body, target.position_m, target.yaw_rad, cmd);
+        // backwards only along the path's last segment: a path with a bend behind the robot
+        // would turn it round, then forwards again (the 4-robot team stalled so for 300 s)
+        const bool last_segment = target.next_index + 1 >= path_.size();
+        steer(T_world_body, target.position_m, target.yaw_rad, look_ahead_.final_waypoint(),
+              last_segment, cmd);
       }
     }
   }

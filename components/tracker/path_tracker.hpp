@@ -21,7 +21,11 @@
 // Modes: kIdle (no path, or an empty / invalid one), kMoving, kDone (the plan's final
 // waypoint reached within position_tolerance_m and yaw_tolerance_deg; zero command until
 // a new plan), kStopped, kSteppingAside, kWaiting (at the aside pose), kLost (no pose, a
-// NaN pose, tracking lost or a pose older than pose_timeout_s: zero command, logged once).
+// NaN pose, tracking lost or a pose older than pose_timeout_s: zero command, logged once;
+// with lost_turn_rate_radps > 0 a ground robot whose odometry lost track turns on the spot
+// at that rate until it resumes).
+// A goal close behind a ground robot with its yaw (a back-off) is reached backwards
+// (ground_reverse_max_m, velocity_mapping.hpp).
 // A new plan clears a stop or step-aside when new_plan_resumes is true (the planner
 // replans after an emergency stop, Algorithm 1 line 16).
 //
@@ -63,6 +67,7 @@ class PathTracker final : public Component {
         0.1;                           // goal and aside pose reached (horizontal for ground robots)
     double yaw_tolerance_rad = 0.087;  // 5 deg
     double pose_timeout_s = 1.0;       // older poses: stop (kLost)
+    double lost_turn_rate_radps = 0;   // ground, tracking lost: turn on the spot (0: hold)
     bool predict_pose = true;
     bool new_plan_resumes = true;
   };
@@ -95,9 +100,13 @@ class PathTracker final : public Component {
   void on_tick();
   // The pose now: the last one, moved by the commands sent since its stamp.
   Eigen::Isometry3d predicted_pose(int64_t now_ns) const;
-  // Command towards a target pose; returns it in `cmd`.
+  // Command towards a target pose; returns it in `cmd`. `goal` (the final waypoint, or the
+  // aside point): with may_reverse (a straight way to it), a ground robot reaches one close
+  // behind it, with its yaw, backwards.
   void steer(const Eigen::Isometry3d& T_world_body, const Eigen::Vector3d& target_m,
-             double target_yaw_rad, msg::VelocityCommand& cmd);
+             double target_yaw_rad, const msg::Waypoint& goal, bool may_reverse,
+             msg::VelocityCommand& cmd);
+  bool reverse_to(const Eigen::Isometry3d& T_world_body, const msg::Waypoint& goal) const;
   // Position and yaw errors to a pose (horizontal for ground robots).
   std::pair<double, double> errors_to(const Eigen::Isometry3d& T_world_body,
                                       const msg::Waypoint& w) const;
@@ -126,6 +135,7 @@ class PathTracker final : public Component {
   // pose
   msg::Odometry pose_;
   bool pose_seen_ = false;        // any pose message, usable or not
+  bool tracking_lost_ = false;    // the last pose message: finite, tracking quality 0
   bool have_pose_ = false;        // a usable pose was received
   bool pose_valid_ = false;       // the last pose message was usable
   std::deque<SentCommand> sent_;  // commands since the pose's stamp (prediction)

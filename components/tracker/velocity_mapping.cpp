@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace scancrew::tracker {
 
@@ -11,14 +12,18 @@ double clamp_abs(double x, double limit) {
 }
 }  // namespace
 
-UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& config) {
+UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& config, bool reverse) {
   const double d = std::hypot(law.offset_body_m.x(), law.offset_body_m.y());
-  const double alpha = d > 1e-9 ? std::atan2(law.offset_body_m.y(), law.offset_body_m.x()) : 0.0;
+  double alpha = d > 1e-9 ? std::atan2(law.offset_body_m.y(), law.offset_body_m.x()) : 0.0;
+  // reversing: the heading error of the robot's back
+  if (reverse) alpha = std::remainder(alpha - std::numbers::pi, 2 * std::numbers::pi);
+  const double direction = reverse ? -1.0 : 1.0;
 
   // far: go to the point, slowing with the heading error, turning on the spot above a limit
   const double speed = std::min(std::hypot(law.twist.linear_mps.x(), law.twist.linear_mps.y()),
                                 config.max_speed_mps);
-  const double v_far = std::abs(alpha) > config.turn_in_place_rad ? 0.0 : speed * std::cos(alpha);
+  const double v_far =
+      std::abs(alpha) > config.turn_in_place_rad ? 0.0 : direction * speed * std::cos(alpha);
   const double omega_far = config.heading_gain * alpha;
   // near: the twist's unicycle part (forward speed and yaw rate to the target's yaw)
   const double v_near = law.twist.linear_mps.x();

@@ -18,6 +18,11 @@
 // The far law ignores the target's yaw: on a path the look-ahead point pulls the robot
 // along; at the goal the near law turns it to the final yaw with at most align_radius of
 // position error.
+// Reversing (the caller's choice, `reverse`: a short move to a point behind, keeping the
+// yaw, as a back-off from an obstacle): the far law steers the robot's back at the point,
+// α' = α − π wrapped, v = −min(|v_xy|, v_max)·cos α' (0 if |α'| > turn_in_place_rad),
+// ω = heading_gain · α'. A robot turning on the spot sweeps its corners round (0.30 m for
+// the 0.44 × 0.40 m robot); backing straight out does not.
 // Multirotor (holonomic, yaw-controlled): (v_x, v_y, v_z) = the PBVS linear twist scaled
 // down (direction kept) so that |v| ≤ max_speed and |v_z| ≤ max_vertical_speed;
 // yaw rate = ω_z clamped to max_yaw_rate.
@@ -36,6 +41,9 @@ struct GroundMappingConfig {
   double heading_gain = 2.0;       // 1/s
   double turn_in_place_rad = 1.0;  // heading error above which the robot turns on the spot
   double align_radius_m = 0.1;     // within it the robot turns to the target's yaw
+  // a goal this close behind the robot, with (about) its yaw, is reached backwards (the
+  // low-level planner's back-off poses lie within backoff_max_m, 1 m); 0: never reverse
+  double reverse_max_m = 1.0;
 };
 
 struct MultirotorMappingConfig {
@@ -54,7 +62,8 @@ struct MultirotorCommand {
   double yaw_rate_radps = 0;
 };
 
-UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& config);
+UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& config,
+                            bool reverse = false);
 MultirotorCommand to_multirotor(const LawOutput& law, const MultirotorMappingConfig& config);
 
 }  // namespace scancrew::tracker

@@ -58,6 +58,7 @@ class TestInjector final : public Component {
     double empty_path_at_s = -1;
     uint64_t empty_plan_id = 0;
     bool nan_odom = false;
+    bool lost_odom = false;  // finite poses with tracking quality 0 (the odometry lost track)
   };
   static Config read_config(ParamReader& p) {
     Config c;
@@ -65,6 +66,7 @@ class TestInjector final : public Component {
     p.optional("empty_path_at_s", c.empty_path_at_s);
     p.optional("empty_plan_id", c.empty_plan_id);
     p.optional("nan_odom", c.nan_odom);
+    p.optional("lost_odom", c.lost_odom);
     return c;
   }
   TestInjector(ComponentContext c, Config config)
@@ -104,6 +106,14 @@ class TestInjector final : public Component {
       ASSERT_TRUE(loan);
       (**loan).T_world_body.position.x = std::numeric_limits<double>::quiet_NaN();
       (**loan).tracking_quality = 1.0;
+      (void)odom_.publish(std::move(*loan));
+    }
+    if (config_.lost_odom && std::llround(t * 20) % 4 == 0) {
+      auto loan = odom_.loan();
+      ASSERT_TRUE(loan);
+      (**loan).header.stamp_ns = clock().now_ns();
+      (**loan).T_world_body.position = {-3, -2, 0};
+      (**loan).tracking_quality = 0.0;
       (void)odom_.publish(std::move(*loan));
     }
   }
@@ -266,6 +276,32 @@ TEST(PathTracker, AMultirotorFollowsAPathThroughItsWaypointsToTheGoal) {
       45.0);
 }
 
+// A back-off (the low-level planner's escape pose: 0.6 m behind, the same yaw) is driven
+// backwards in a straight line; with ground_reverse_max_m 0 the robot turns round twice.
+TEST(PathTracker, AGroundRobotBacksOffToAPoseJustBehindIt) {
+  const Waypoint4 start{-2.0, -2.0, 0.0, 30.0};
+  const Waypoint4 behind{-2.0 - 0.6 * std::cos(M_PI / 6), -2.0 - 0.6 * std::sin(M_PI / 6), 0, 30};
+  const std::string player = "{waypoints: " + list({start, behind}) + "}";
+  auto max_turn_deg = [&](const TrackerRun& r) {
+    double turn = 0;
+    for (const msg::Odometry& o : r.log->poses) turn = std::max(turn, yaw_error_deg(o, start));
+    return turn;
+  };
+  TrackerRun back = run(launch_text("ground", start, 10.0, player, "{}", "{}"));
+  ASSERT_NE(back.log, nullptr);
+  ASSERT_FALSE(back.log->poses.empty());
+  EXPECT_EQ(back.tracker->plans_done(), 1u);
+  EXPECT_LT(distance(back.log->poses.back(), behind, true), 0.1);
+  EXPECT_LT(max_turn_deg(back), 10.0);
+  double v_min = 0;
+  for (const msg::VelocityCommand& c : back.log->commands) v_min = std::min(v_min, c.linear_mps.x);
+  EXPECT_LT(v_min, -0.1);
+  TrackerRun round =
+      run(launch_text("ground", start, 10.0, player, "{ground_reverse_max_m: 0.0}", "{}"));
+  ASSERT_NE(round.log, nullptr);
+  EXPECT_GT(max_turn_deg(round), 90.0);
+}
+
 // A straight run along y = −2; a stop at 5 s, a resume at 10 s.
 TEST(PathTracker, AStopManeuverZeroesTheCommandAtOnceAndHoldsUntilResumed) {
   for (const std::string kind : {"ground", "multirotor"}) {
@@ -396,6 +432,33 @@ TEST(PathTracker, HoldsStillOnNanPoses) {
     EXPECT_EQ(c.yaw_rate_radps, 0.0);
   }
   EXPECT_NEAR(r.log->poses.back().T_world_body.position.x, -3.0, 1e-3);
+}
+
+// The odometry lost track: held still by default; with lost_turn_rate_radps a ground robot
+// turns on the spot (no forward motion) until the odometry gives a pose again.
+TEST(PathTracker, AGroundRobotWhoseOdometryLostTrackTurnsOnTheSpotWhenAsked) {
+  const std::vector<Waypoint4> path = {{-3, -2, 0, 0}, {3, -2, 0, 0}};
+  const std::string player = "{waypoints: " + list(path) + "}";
+  TrackerRun held = run(launch_text("ground", {-3, -2, 0, 0}, 3.0, player, "{pose_source: vio}",
+                                    "{lost_odom: true}"));
+  ASSERT_NE(held.tracker, nullptr);
+  EXPECT_EQ(held.tracker->mode(), msg::RobotState::Mode::kLost);
+  ASSERT_FALSE(held.log->commands.empty());
+  for (const msg::VelocityCommand& c : held.log->commands) EXPECT_EQ(c.yaw_rate_radps, 0.0);
+
+  TrackerRun turning =
+      run(launch_text("ground", {-3, -2, 0, 0}, 3.0, player,
+                      "{pose_source: vio, lost_turn_rate_radps: 0.3}", "{lost_odom: true}"));
+  ASSERT_NE(turning.tracker, nullptr);
+  EXPECT_EQ(turning.tracker->mode(), msg::RobotState::Mode::kLost);
+  ASSERT_FALSE(turning.log->commands.empty());
+  EXPECT_EQ(turning.log->commands.back().yaw_rate_radps, 0.3);
+  for (const msg::VelocityCommand& c : turning.log->commands) EXPECT_EQ(c.linear_mps.x, 0.0);
+  // the simulator's truth: turned on the spot
+  const msg::Odometry& last = turning.log->poses.back();
+  EXPECT_GT(yaw_of(last), 0.5);
+  EXPECT_NEAR(last.T_world_body.position.x, -3.0, 0.02);
+  EXPECT_NEAR(last.T_world_body.position.y, -2.0, 0.02);
 }
 
 TEST(PathTracker, TheExampleLaunchFileBringsBothRobotsToTheirGoals) {

@@ -119,11 +119,13 @@ TEST(VelocityMapping, AMultirotorKeepsTheDirectionUnderItsSpeedLimits) {
 struct Reached {
   double position_error_m = 1e9, yaw_error_rad = 1e9, max_speed_mps = 0, max_yaw_rate_radps = 0;
   double time_s = 0;
+  double max_turn_rad = 0;  // largest yaw change from the start on the way
+  double min_v_mps = 0;     // most negative forward speed (reversing)
 };
 
 // Stops within tolerance_m and tolerance_rad (the tracker's goal test).
 Reached drive(bool ground, const Eigen::Isometry3d& start, const Eigen::Isometry3d& target,
-              double tolerance_m, double tolerance_rad) {
+              double tolerance_m, double tolerance_rad, bool reverse = false) {
   TrackingLaw law;
   const GroundMappingConfig gc;
   const MultirotorMappingConfig mc;
@@ -136,8 +138,9 @@ Reached drive(bool ground, const Eigen::Isometry3d& start, const Eigen::Isometry
     Eigen::Vector3d v_body;
     double w = 0;
     if (ground) {
-      const UnicycleCommand u = to_unicycle(out, gc);
+      const UnicycleCommand u = to_unicycle(out, gc, reverse);
       v_body = {u.v_mps, 0, 0};
+      r.min_v_mps = std::min(r.min_v_mps, u.v_mps);
       w = u.omega_radps;
     } else {
       const MultirotorCommand m = to_multirotor(out, mc);
@@ -148,6 +151,8 @@ Reached drive(bool ground, const Eigen::Isometry3d& start, const Eigen::Isometry
     r.max_yaw_rate_radps = std::max(r.max_yaw_rate_radps, std::abs(w));
     p += Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * v_body * dt;
     yaw += w * dt;
+    r.max_turn_rad =
+        std::max(r.max_turn_rad, std::abs(std::remainder(yaw - yaw_of(start.linear()), 2 * M_PI)));
     r.position_error_m = (target.translation() - p).norm();
     r.yaw_error_rad = std::abs(std::remainder(yaw_of(target.linear()) - yaw, 2 * M_PI));
     r.time_s = (i + 1) * dt;
@@ -186,6 +191,27 @@ TEST(VelocityMapping, AUnicycleReachesTargetsAllAroundAtTheirYaw) {
       EXPECT_LE(r.max_yaw_rate_radps, gc.max_yaw_rate_radps + 1e-12);
       EXPECT_LT(r.time_s, 20.0);
     }
+  }
+}
+
+// A back-off (the low-level planner's escape pose behind a robot that stopped before an
+// obstacle, same yaw): forwards, the robot turns round on the spot, sweeping its corners
+// into what it stopped for (the parking lot's 4-robot team against box_black_2); reversing,
+// it backs out with hardly a turn.
+TEST(VelocityMapping, AUnicycleBacksOutToAPoseBehindItWhenToldToReverse) {
+  const GroundMappingConfig gc;
+  for (const double side : {-0.15, 0.0, 0.15}) {
+    const Eigen::Isometry3d start = pose(0, 0, 0, 0.6);
+    const Eigen::Isometry3d goal = pose(-0.6 * std::cos(0.6) - side * std::sin(0.6),
+                                        -0.6 * std::sin(0.6) + side * std::cos(0.6), 0, 0.6);
+    const Reached back = drive(true, start, goal, gc.align_radius_m, 0.087, true);
+    EXPECT_LT(back.position_error_m, gc.align_radius_m) << side;
+    EXPECT_LT(back.yaw_error_rad, 0.087) << side;
+    EXPECT_LT(back.max_turn_rad, 0.5) << side;
+    EXPECT_LT(back.min_v_mps, -0.1) << side;
+    EXPECT_GE(back.min_v_mps, -gc.max_speed_mps - 1e-12) << side;
+    const Reached forwards = drive(true, start, goal, gc.align_radius_m, 0.087, false);
+    EXPECT_GT(forwards.max_turn_rad, 2.0) << side;
   }
 }
 
