@@ -115,6 +115,7 @@ void PathTracker::on_path(const msg::LocalPath& path) {
   if (have_plan_ && path.plan_id == plan_id_ && same_path(path.waypoints, path_)) return;
   const bool new_plan = !have_plan_ || path.plan_id != plan_id_;
   have_plan_ = true;
+  if (new_plan) reversing_ = false;
   plan_id_ = path.plan_id;
   path_ = path.waypoints;
   done_ = false;
@@ -154,6 +155,7 @@ void PathTracker::on_pose(const msg::Odometry& odom) {
 }
 
 void PathTracker::on_maneuver(const msg::Maneuver& maneuver) {
+  reversing_ = false;  // a new goal (the aside pose) or back to the path
   switch (maneuver.kind) {
     case msg::Maneuver::Kind::kStop:
       order_ = Order::kStop;
@@ -208,14 +210,22 @@ std::pair<double, double> PathTracker::errors_to(const Eigen::Isometry3d& T_worl
   return {d.norm(), std::abs(std::remainder(w.yaw_rad - yaw_of(T_world_body.linear()), 2 * M_PI))};
 }
 
-bool PathTracker::reverse_to(const Eigen::Isometry3d& T_world_body,
-                             const msg::Waypoint& goal) const {
-  if (!ground_ || config_.ground.reverse_max_m <= 0) return false;
+bool PathTracker::reverse_to(const Eigen::Isometry3d& T_world_body, const msg::Waypoint& goal) {
+  if (!ground_ || config_.ground.reverse_max_m <= 0) return reversing_ = false;
   const Eigen::Vector2d d = (msg::to_eigen(goal.position) - T_world_body.translation()).head<2>();
-  if (d.norm() > config_.ground.reverse_max_m) return false;
   const double yaw = yaw_of(T_world_body.linear());
-  if (d.dot(Eigen::Vector2d(std::cos(yaw), std::sin(yaw))) >= 0) return false;  // ahead
-  return std::abs(std::remainder(goal.yaw_rad - yaw, 2 * M_PI)) <= config_.ground.turn_in_place_rad;
+  if (d.norm() > config_.ground.reverse_max_m ||
+      d.dot(Eigen::Vector2d(std::cos(yaw), std::sin(yaw))) >= 0)
+    return reversing_ = false;  // far, or ahead
+  if (reversing_) return true;  // once backing, until there
+  // start backing only when neither turning the back to the goal nor turning to its yaw
+  // can end it: the two turns together within turn_in_place_rad. A looser test flipped a
+  // robot between backing (its back turned to the goal, its yaw off the goal's) and
+  // driving forwards (turning back round), on the spot for 300 s (4-robot team)
+  const double back_error =
+      std::abs(std::remainder(std::atan2(d.y(), d.x()) - yaw - M_PI, 2 * M_PI));
+  const double yaw_error = std::abs(std::remainder(goal.yaw_rad - yaw, 2 * M_PI));
+  return reversing_ = back_error + yaw_error <= config_.ground.turn_in_place_rad;
 }
 
 void PathTracker::steer(const Eigen::Isometry3d& T_world_body, const Eigen::Vector3d& target_m,

@@ -106,7 +106,7 @@ class PathTracker final : public Component {
   void steer(const Eigen::Isometry3d& T_world_body, const Eigen::Vector3d& target_m,
              double target_yaw_rad, const msg::Waypoint& goal, bool may_reverse,
              msg::VelocityCommand& cmd);
-  bool reverse_to(const Eigen::Isometry3d& T_world_body, const msg::Waypoint& goal) const;
+  bool reverse_to(const Eigen::Isometry3d& T_world_body, const msg::Waypoint& goal);
   // Position and yaw errors to a pose (horizontal for ground robots).
   std::pair<double, double> errors_to(const Eigen::Isometry3d& T_world_body,
                                       const msg::Waypoint& w) const;
@@ -136,6 +136,7 @@ class PathTracker final : public Component {
   msg::Odometry pose_;
   bool pose_seen_ = false;        // any pose message, usable or not
   bool tracking_lost_ = false;    // the last pose message: finite, tracking quality 0
+  bool reversing_ = false;        // backing to the goal (reverse_to's hysteresis)
   bool have_pose_ = false;        // a usable pose was received
   bool pose_valid_ = false;       // the last pose message was usable
   std::deque<SentCommand> sent_;  // commands since the pose's stamp (prediction)

@@ -302,6 +302,21 @@ TEST(PathTracker, AGroundRobotBacksOffToAPoseJustBehindIt) {
   EXPECT_GT(max_turn_deg(round), 90.0);
 }
 
+// A goal behind and well to the side, with the robot's yaw: backing would turn the robot's
+// back 70 degrees to it and its yaw away from the goal's; the robot must not flip between
+// backing and turning forwards round (a 4-robot parking-lot run stood so for 300 s).
+TEST(PathTracker, AGroundRobotReachesAGoalBehindAndAsideWithoutDithering) {
+  const Waypoint4 start{-2.0, -2.0, 0.0, 0.0};
+  const Waypoint4 goal{-2.0 + 0.8 * std::cos(110 * M_PI / 180),
+                       -2.0 + 0.8 * std::sin(110 * M_PI / 180), 0, 0};
+  TrackerRun r = run(
+      launch_text("ground", start, 20.0, "{waypoints: " + list({start, goal}) + "}", "{}", "{}"));
+  ASSERT_NE(r.tracker, nullptr);
+  EXPECT_EQ(r.tracker->plans_done(), 1u);
+  EXPECT_LT(distance(r.log->poses.back(), goal, true), 0.1);
+  EXPECT_LT(1e-9 * static_cast<double>(r.tracker->done_stamp_ns()), 15.0);
+}
+
 // A straight run along y = −2; a stop at 5 s, a resume at 10 s.
 TEST(PathTracker, AStopManeuverZeroesTheCommandAtOnceAndHoldsUntilResumed) {
   for (const std::string kind : {"ground", "multirotor"}) {
