@@ -69,6 +69,7 @@ PathTracker::Config PathTracker::read_config(ParamReader& p) {
     p.report("align_radius_m", "must not exceed position_tolerance_m (the robot would stop short)");
   p.optional("pose_timeout_s", c.pose_timeout_s, {0.01, 100});
   p.optional("lost_turn_rate_radps", c.lost_turn_rate_radps, {0, 5});
+  p.optional("lost_turn_after_s", c.lost_turn_after_s, {0, 3600});
   p.optional("predict_pose", c.predict_pose);
   p.optional("new_plan_resumes", c.new_plan_resumes);
   return c;
@@ -139,9 +140,12 @@ void PathTracker::on_pose(const msg::Odometry& odom) {
   pose_seen_ = true;
   if (odom.tracking_quality <= 0 || !finite(odom.T_world_body)) {
     pose_valid_ = false;
-    tracking_lost_ = odom.tracking_quality <= 0 && finite(odom.T_world_body);
+    const bool lost = odom.tracking_quality <= 0 && finite(odom.T_world_body);
+    if (lost && !tracking_lost_) lost_since_ns_ = clock().now_ns();
+    tracking_lost_ = lost;
     warn_once(logged_lost_, ground_ && tracking_lost_ && config_.lost_turn_rate_radps > 0
-                                ? "tracking lost: turning on the spot until it resumes"
+                                ? "tracking lost: holding still, then turning on the spot after "
+                                  "lost_turn_after_s until it resumes"
                                 : "no usable pose (NaN or tracking lost): holding still");
     return;
   }
@@ -261,10 +265,14 @@ void PathTracker::on_tick() {
     mode = Mode::kStopped;
   } else if (!pose_fresh) {
     mode = pose_seen_ ? Mode::kLost : Mode::kIdle;  // kIdle: no pose message yet
-    // a ground robot whose odometry lost track turns on the spot: the same view (a blank
-    // wall, a plain box face) would never give it back, and a turn in place is what the
-    // odometry bridges best (the gyro turns its last pose; the position does not move)
-    if (ground_ && tracking_lost_ && !pose_valid_)
+    // a ground robot whose odometry lost track and did not find it again at rest within
+    // lost_turn_after_s turns on the spot: the same view (a blank wall, a plain box face)
+    // would never give it back, and a turn in place is what the odometry bridges best (the
+    // gyro turns its last pose; the position does not move). Turning at once lost the
+    // track again and again in the parking lot (776 losses in a 900 s pair mission; at
+    // rest first: 2)
+    if (ground_ && tracking_lost_ && !pose_valid_ &&
+        1e-9 * static_cast<double>(now - lost_since_ns_) >= config_.lost_turn_after_s)
       cmd.yaw_rate_radps = config_.lost_turn_rate_radps;
   } else {
     const Eigen::Isometry3d T_world_body = predicted_pose(now);

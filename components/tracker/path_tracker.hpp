@@ -22,8 +22,9 @@
 // waypoint reached within position_tolerance_m and yaw_tolerance_deg; zero command until
 // a new plan), kStopped, kSteppingAside, kWaiting (at the aside pose), kLost (no pose, a
 // NaN pose, tracking lost or a pose older than pose_timeout_s: zero command, logged once;
-// with lost_turn_rate_radps > 0 a ground robot whose odometry lost track turns on the spot
-// at that rate until it resumes).
+// with lost_turn_rate_radps > 0 a ground robot whose odometry lost track, and did not find
+// it again at rest within lost_turn_after_s, turns on the spot at that rate until it
+// resumes).
 // A goal close behind a ground robot with its yaw (a back-off) is reached backwards
 // (ground_reverse_max_m, velocity_mapping.hpp).
 // A new plan clears a stop or step-aside when new_plan_resumes is true (the planner
@@ -68,6 +69,7 @@ class PathTracker final : public Component {
     double yaw_tolerance_rad = 0.087;  // 5 deg
     double pose_timeout_s = 1.0;       // older poses: stop (kLost)
     double lost_turn_rate_radps = 0;   // ground, tracking lost: turn on the spot (0: hold)
+    double lost_turn_after_s = 2.0;    // ... after holding still this long
     bool predict_pose = true;
     bool new_plan_resumes = true;
   };
@@ -136,6 +138,7 @@ class PathTracker final : public Component {
   msg::Odometry pose_;
   bool pose_seen_ = false;        // any pose message, usable or not
   bool tracking_lost_ = false;    // the last pose message: finite, tracking quality 0
+  int64_t lost_since_ns_ = 0;     // when tracking_lost_ became true
   bool reversing_ = false;        // backing to the goal (reverse_to's hysteresis)
   bool have_pose_ = false;        // a usable pose was received
   bool pose_valid_ = false;       // the last pose message was usable

@@ -450,7 +450,8 @@ TEST(PathTracker, HoldsStillOnNanPoses) {
 }
 
 // The odometry lost track: held still by default; with lost_turn_rate_radps a ground robot
-// turns on the spot (no forward motion) until the odometry gives a pose again.
+// turns on the spot (no forward motion) after lost_turn_after_s at rest, until the odometry
+// gives a pose again.
 TEST(PathTracker, AGroundRobotWhoseOdometryLostTrackTurnsOnTheSpotWhenAsked) {
   const std::vector<Waypoint4> path = {{-3, -2, 0, 0}, {3, -2, 0, 0}};
   const std::string player = "{waypoints: " + list(path) + "}";
@@ -463,15 +464,20 @@ TEST(PathTracker, AGroundRobotWhoseOdometryLostTrackTurnsOnTheSpotWhenAsked) {
 
   TrackerRun turning =
       run(launch_text("ground", {-3, -2, 0, 0}, 3.0, player,
-                      "{pose_source: vio, lost_turn_rate_radps: 0.3}", "{lost_odom: true}"));
+                      "{pose_source: vio, lost_turn_rate_radps: 0.3, lost_turn_after_s: 1.0}",
+                      "{lost_odom: true}"));
   ASSERT_NE(turning.tracker, nullptr);
   EXPECT_EQ(turning.tracker->mode(), msg::RobotState::Mode::kLost);
   ASSERT_FALSE(turning.log->commands.empty());
   EXPECT_EQ(turning.log->commands.back().yaw_rate_radps, 0.3);
-  for (const msg::VelocityCommand& c : turning.log->commands) EXPECT_EQ(c.linear_mps.x, 0.0);
+  for (const msg::VelocityCommand& c : turning.log->commands) {
+    EXPECT_EQ(c.linear_mps.x, 0.0);
+    // at rest for the first second (the first lost pose comes at 0 s)
+    if (t_s(c.header) < 0.95) EXPECT_EQ(c.yaw_rate_radps, 0.0) << t_s(c.header);
+  }
   // the simulator's truth: turned on the spot
   const msg::Odometry& last = turning.log->poses.back();
-  EXPECT_GT(yaw_of(last), 0.5);
+  EXPECT_GT(yaw_of(last), 0.4);  // 0.3 rad/s for the last ~2 s
   EXPECT_NEAR(last.T_world_body.position.x, -3.0, 0.02);
   EXPECT_NEAR(last.T_world_body.position.y, -2.0, 0.02);
 }
