@@ -58,6 +58,7 @@ PathTracker::Config PathTracker::read_config(ParamReader& p) {
   c.ground.turn_in_place_rad = turn_deg * kDegToRad;
   p.optional("align_radius_m", c.ground.align_radius_m, {0, 10});
   p.optional("ground_reverse_max_m", c.ground.reverse_max_m, {0, 10});
+  p.optional("ground_reverse_min_radius_m", c.ground.reverse_min_radius_m, {0, 10});
   p.optional("multirotor_max_speed_mps", c.multirotor.max_speed_mps, {0.01, 20});
   p.optional("multirotor_max_vertical_speed_mps", c.multirotor.max_vertical_speed_mps, {0.01, 20});
   p.optional("multirotor_max_yaw_rate_radps", c.multirotor.max_yaw_rate_radps, {0.01, 20});
@@ -221,13 +222,15 @@ bool PathTracker::reverse_to(const Eigen::Isometry3d& T_world_body, const msg::W
   if (d.norm() > config_.ground.reverse_max_m ||
       d.dot(Eigen::Vector2d(std::cos(yaw), std::sin(yaw))) >= 0)
     return reversing_ = false;  // far, or ahead
-  if (reversing_) return true;  // once backing, until there
+  const double back_error =
+      std::abs(std::remainder(std::atan2(d.y(), d.x()) - yaw - M_PI, 2 * M_PI));
+  // once backing, until there, or until the goal is off the back by more than
+  // turn_in_place_rad (an arc too wide to reach it passes it by: then forwards)
+  if (reversing_) return reversing_ = back_error <= config_.ground.turn_in_place_rad;
   // start backing only when neither turning the back to the goal nor turning to its yaw
   // can end it: the two turns together within turn_in_place_rad. A looser test flipped a
   // robot between backing (its back turned to the goal, its yaw off the goal's) and
   // driving forwards (turning back round), on the spot for 300 s (4-robot team)
-  const double back_error =
-      std::abs(std::remainder(std::atan2(d.y(), d.x()) - yaw - M_PI, 2 * M_PI));
   const double yaw_error = std::abs(std::remainder(goal.yaw_rad - yaw, 2 * M_PI));
   return reversing_ = back_error + yaw_error <= config_.ground.turn_in_place_rad;
 }

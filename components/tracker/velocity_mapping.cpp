@@ -24,7 +24,10 @@ UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& con
                                 config.max_speed_mps);
   const double v_far =
       std::abs(alpha) > config.turn_in_place_rad ? 0.0 : direction * speed * std::cos(alpha);
-  const double omega_far = config.heading_gain * alpha;
+  double omega_far = config.heading_gain * alpha;
+  // backing: on arcs of at least reverse_min_radius_m, not turning on the spot
+  if (reverse && config.reverse_min_radius_m > 0)
+    omega_far = clamp_abs(omega_far, std::abs(v_far) / config.reverse_min_radius_m);
   // near: the twist's unicycle part (forward speed and yaw rate to the target's yaw)
   const double v_near = law.twist.linear_mps.x();
   const double omega_near = law.twist.angular_radps.z();

@@ -21,8 +21,10 @@
 // Reversing (the caller's choice, `reverse`: a short move to a point behind, keeping the
 // yaw, as a back-off from an obstacle): the far law steers the robot's back at the point,
 // α' = α − π wrapped, v = −min(|v_xy|, v_max)·cos α' (0 if |α'| > turn_in_place_rad),
-// ω = heading_gain · α'. A robot turning on the spot sweeps its corners round (0.30 m for
-// the 0.44 × 0.40 m robot); backing straight out does not.
+// ω = heading_gain · α', at most |v| / reverse_min_radius_m (an arc, not a turn on the
+// spot). A robot turning on the spot sweeps its corners round (0.30 m for the 0.44 × 0.40 m
+// robot); backing out along an arc of 0.5 m from 0.25 m beside a wall keeps its front
+// corner off the wall.
 // Multirotor (holonomic, yaw-controlled): (v_x, v_y, v_z) = the PBVS linear twist scaled
 // down (direction kept) so that |v| ≤ max_speed and |v_z| ≤ max_vertical_speed;
 // yaw rate = ω_z clamped to max_yaw_rate.
@@ -44,6 +46,10 @@ struct GroundMappingConfig {
   // a goal this close behind the robot, with (about) its yaw, is reached backwards (the
   // low-level planner's back-off poses lie within backoff_max_m, 1 m); 0: never reverse
   double reverse_max_m = 1.0;
+  // backing turns on arcs at least this wide (0: no limit): a back-off 45 degrees off
+  // straight back, turned at the full yaw rate from 0.25 m beside a wall, swung the robot's
+  // front corner into it (parking lot, distributed pair, seed 2)
+  double reverse_min_radius_m = 0.5;
 };
 
 struct MultirotorMappingConfig {

@@ -317,6 +317,21 @@ TEST(PathTracker, AGroundRobotReachesAGoalBehindAndAsideWithoutDithering) {
   EXPECT_LT(1e-9 * static_cast<double>(r.tracker->done_stamp_ns()), 15.0);
 }
 
+// A back-off 0.2 m away, 45 degrees off straight back: the arc of at least 0.5 m the robot
+// backs on cannot reach it; the robot backs past it, then drives forwards to it.
+TEST(PathTracker, AGroundRobotReachesABackOffItsBackingArcPassesBy) {
+  const Waypoint4 start{-2.0, -2.0, 0.0, 180.0};
+  const Waypoint4 goal{-2.0 + 0.2 * std::cos(-M_PI / 4), -2.0 + 0.2 * std::sin(-M_PI / 4), 0,
+                       180.0};
+  TrackerRun r = run(
+      launch_text("ground", start, 20.0, "{waypoints: " + list({start, goal}) + "}", "{}", "{}"));
+  ASSERT_NE(r.tracker, nullptr);
+  EXPECT_EQ(r.tracker->plans_done(), 1u);
+  EXPECT_LT(distance(r.log->poses.back(), goal, true), 0.1);
+  EXPECT_LT(yaw_error_deg(r.log->poses.back(), goal), 5.0);
+  EXPECT_LT(1e-9 * static_cast<double>(r.tracker->done_stamp_ns()), 15.0);
+}
+
 // A straight run along y = −2; a stop at 5 s, a resume at 10 s.
 TEST(PathTracker, AStopManeuverZeroesTheCommandAtOnceAndHoldsUntilResumed) {
   for (const std::string kind : {"ground", "multirotor"}) {

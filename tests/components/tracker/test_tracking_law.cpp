@@ -215,6 +215,35 @@ TEST(VelocityMapping, AUnicycleBacksOutToAPoseBehindItWhenToldToReverse) {
   }
 }
 
+// Backing to a pose 0.2 m away, 45 degrees off straight back, from 0.25 m beside a wall
+// on the robot's right (the parking lot's distributed pair, seed 2): turned at the full yaw
+// rate the front-right corner hit the wall; on arcs of reverse_min_radius_m (0.5 m) it
+// stays off it. The robot's corners: 0.22 m ahead, 0.20 m to each side.
+TEST(VelocityMapping, BackingTurnsOnArcsThatKeepTheFrontCornerOffASideWall) {
+  const double wall_y = 0.25;  // the robot heads -x at y = 0: the wall on its right
+  auto max_corner_y = [&](double min_radius_m) {
+    GroundMappingConfig gc;
+    gc.reverse_min_radius_m = min_radius_m;
+    TrackingLaw law;
+    Eigen::Vector3d p(0, 0, 0);
+    double yaw = M_PI;
+    const double off = -M_PI / 4;  // 45 degrees off straight back (+x), away from the wall
+    const Eigen::Isometry3d goal = pose(0.2 * std::cos(off), 0.2 * std::sin(off), 0, M_PI);
+    double worst = -1e9;
+    for (int i = 0; i < 40; ++i) {  // 2 s
+      const UnicycleCommand u = to_unicycle(law.compute(level_pose(p, yaw), goal), gc, true);
+      p += Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0) * u.v_mps * 0.05;
+      yaw += u.omega_radps * 0.05;
+      for (const double fx : {0.22, -0.22})
+        for (const double fy : {0.2, -0.2})
+          worst = std::max(worst, p.y() + fx * std::sin(yaw) + fy * std::cos(yaw));
+    }
+    return worst;
+  };
+  EXPECT_LT(max_corner_y(0.5), wall_y);
+  EXPECT_GT(max_corner_y(0.0), wall_y);  // unlimited: the corner reaches the wall
+}
+
 TEST(VelocityMapping, AMultirotorReachesTargetsAllAroundAtTheirYaw) {
   const MultirotorMappingConfig mc;
   for (int dir = 0; dir < 8; ++dir) {
