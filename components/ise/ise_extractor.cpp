@@ -67,6 +67,7 @@ IseExtractor::Config IseExtractor::read_config(ParamReader& p) {
   p.optional("give_up_visits", c.give_up_visits, {0, 1000000});
   p.optional("visit_distance_m", c.visit_distance_m, {0.01, 100});
   p.optional("visit_angle_deg", c.visit_angle_deg, {0.1, 180});
+  p.optional("visit_period_s", c.visit_period_s, {0, 1000});
   p.choice("visit_pose_topic", c.visit_pose_topic, {"pose_gt", "odom"});
   return c;
 }
@@ -112,8 +113,19 @@ Result<void, std::string> IseExtractor::on_configure() {
   return {};
 }
 
+bool IseExtractor::visit_due(int64_t stamp_ns) {
+  if (next_visit_ns_ && stamp_ns < *next_visit_ns_) return false;
+  // a tenth of the period early still counts: camera stamps jitter on hardware, and a
+  // snapshot 0.998 s after the last would otherwise wait for the next one
+  constexpr double kEarly = 0.1;
+  next_visit_ns_ =
+      stamp_ns + static_cast<int64_t>(std::llround((1.0 - kEarly) * config_.visit_period_s * 1e9));
+  return true;
+}
+
 // Every ISE that a viewpoint sees, or was made for, while a robot stands at it counts a
-// visit (once per update); at give_up_visits it is given up (C_rem from the next update on).
+// visit (once per counting update); at give_up_visits it is given up (C_rem from the next
+// update on).
 void IseExtractor::count_visits(const IseResult& r) {
   const double max_angle = config_.visit_angle_deg * M_PI / 180.0;
   std::vector<uint8_t> visited(r.ises.size(), 0);
@@ -155,7 +167,7 @@ void IseExtractor::on_map(const tsdf::MapUpdate& update) {
     pipeline_.emplace(std::move(created).value());
   }
   const IseResult& r = pipeline_->update(snap);
-  if (config_.give_up_visits > 0) count_visits(r);
+  if (config_.give_up_visits > 0 && visit_due(update.header.stamp_ns)) count_visits(r);
   ++updates_;
   ms_sum_ += r.stats.total_ms;
   ms_max_ = std::max(ms_max_, r.stats.total_ms);
