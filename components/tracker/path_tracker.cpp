@@ -71,6 +71,8 @@ PathTracker::Config PathTracker::read_config(ParamReader& p) {
   p.optional("pose_timeout_s", c.pose_timeout_s, {0.01, 100});
   p.optional("lost_turn_rate_radps", c.lost_turn_rate_radps, {0, 5});
   p.optional("lost_turn_after_s", c.lost_turn_after_s, {0, 3600});
+  p.optional("initial_turn_deg", c.initial_turn_deg, {0, 1080});
+  p.optional("initial_turn_rate_radps", c.initial_turn_rate_radps, {0.01, 5});
   p.optional("predict_pose", c.predict_pose);
   p.optional("new_plan_resumes", c.new_plan_resumes);
   return c;
@@ -85,6 +87,7 @@ PathTracker::PathTracker(ComponentContext context, Config config)
 Result<void, std::string> PathTracker::on_configure() {
   for (const TeamMember& m : team())
     if (m.id == robot_id()) ground_ = m.kind == "ground";
+  turning_first_ = ground_ && config_.initial_turn_deg > 0;
   LookAheadConfig la = config_.look_ahead;
   la.planar = ground_;
   look_ahead_ = LookAhead(la);
@@ -156,6 +159,16 @@ void PathTracker::on_pose(const msg::Odometry& odom) {
   last_position_ = position;
   pose_ = odom;
   have_pose_ = pose_valid_ = true;
+  if (turning_first_) {
+    const double yaw = yaw_of(msg::to_eigen(odom.T_world_body).linear());
+    if (turn_last_yaw_) turned_rad_ += std::abs(std::remainder(yaw - *turn_last_yaw_, 2 * M_PI));
+    turn_last_yaw_ = yaw;
+    if (turned_rad_ >= config_.initial_turn_deg * kDegToRad) {
+      turning_first_ = false;
+      SCANCREW_LOG_INFO("%s: first scan done (turned %.0f deg on the spot)",
+                        qualified_name().c_str(), turned_rad_ / kDegToRad);
+    }
+  }
   while (sent_.size() > 1 && sent_[1].stamp_ns <= pose_.header.stamp_ns) sent_.pop_front();
 }
 
@@ -166,6 +179,7 @@ void PathTracker::on_maneuver(const msg::Maneuver& maneuver) {
       order_ = Order::kStop;
       break;
     case msg::Maneuver::Kind::kStepAside:
+      turning_first_ = false;  // out of a teammate's way comes first
       if (!finite(maneuver.aside)) {
         // cannot go there: stopping is the safe reading of the order
         warn_once(logged_bad_aside_, "step-aside to a non-finite pose: stopping instead");
@@ -279,7 +293,10 @@ void PathTracker::on_tick() {
       cmd.yaw_rate_radps = config_.lost_turn_rate_radps;
   } else {
     const Eigen::Isometry3d T_world_body = predicted_pose(now);
-    if (order_ == Order::kStepAside) {
+    if (turning_first_ && order_ == Order::kNone) {
+      mode = Mode::kMoving;
+      cmd.yaw_rate_radps = config_.initial_turn_rate_radps;
+    } else if (order_ == Order::kStepAside) {
       const auto [dp, dyaw] = errors_to(T_world_body, aside_);
       if (dp <= config_.position_tolerance_m && dyaw <= config_.yaw_tolerance_rad) {
         mode = Mode::kWaiting;

@@ -488,13 +488,52 @@ TEST(PathTracker, AGroundRobotWhoseOdometryLostTrackTurnsOnTheSpotWhenAsked) {
   for (const msg::VelocityCommand& c : turning.log->commands) {
     EXPECT_EQ(c.linear_mps.x, 0.0);
     // at rest for the first second (the first lost pose comes at 0 s)
-    if (t_s(c.header) < 0.95) EXPECT_EQ(c.yaw_rate_radps, 0.0) << t_s(c.header);
+    if (t_s(c.header) < 0.95) {
+      EXPECT_EQ(c.yaw_rate_radps, 0.0) << t_s(c.header);
+    }
   }
   // the simulator's truth: turned on the spot
   const msg::Odometry& last = turning.log->poses.back();
   EXPECT_GT(yaw_of(last), 0.4);  // 0.3 rad/s for the last ~2 s
   EXPECT_NEAR(last.T_world_body.position.x, -3.0, 0.02);
   EXPECT_NEAR(last.T_world_body.position.y, -2.0, 0.02);
+}
+
+TEST(PathTracker, AGroundRobotTurnsOnTheSpotFirstWhenAsked) {
+  // a path straight ahead; the first scan turns a full circle before the robot drives
+  const std::vector<Waypoint4> path = {{-3, -2, 0, 0}, {-1, -2, 0, 0}};
+  const std::string player = "{waypoints: " + list(path) + "}";
+  TrackerRun r = run(launch_text("ground", {-3, -2, 0, 0}, 25.0, player,
+                                 "{initial_turn_deg: 360, initial_turn_rate_radps: 0.5}", "{}"));
+  ASSERT_NE(r.tracker, nullptr);
+  ASSERT_FALSE(r.log->poses.empty());
+  EXPECT_EQ(r.tracker->plans_done(), 1u);
+  EXPECT_EQ(r.tracker->mode(), msg::RobotState::Mode::kDone);
+  // turned on the spot (yaw accumulated from the truth) before it left its start
+  double turned = 0, turned_when_left = -1;
+  for (size_t i = 1; i < r.log->poses.size(); ++i) {
+    turned +=
+        std::abs(std::remainder(yaw_of(r.log->poses[i]) - yaw_of(r.log->poses[i - 1]), 2 * M_PI));
+    if (turned_when_left < 0 && distance(r.log->poses[i], path.front(), true) > 0.05)
+      turned_when_left = turned;
+  }
+  std::printf("[figures] first scan: turned %.0f deg before leaving the start, %.0f in all\n",
+              turned_when_left * 180 / M_PI, turned * 180 / M_PI);
+  EXPECT_GE(turned_when_left, 2 * M_PI - 0.05);
+  for (const msg::VelocityCommand& c : r.log->commands) {
+    if (t_s(c.header) >= 2 * M_PI / 0.5 - 0.5) continue;
+    EXPECT_EQ(c.linear_mps.x, 0.0) << t_s(c.header);
+    EXPECT_EQ(c.yaw_rate_radps, 0.5) << t_s(c.header);
+  }
+  EXPECT_LT(distance(r.log->poses.back(), path.back(), true), 0.1 + 1e-3);
+
+  // the first scan is for ground robots: a multirotor flies its path at once
+  TrackerRun air = run(launch_text("multirotor", {-3, -2, 1, 0}, 6.0,
+                                   "{waypoints: [-3, -2, 1, 0, "
+                                   "-1, -2, 1, 0]}",
+                                   "{initial_turn_deg: 360}", "{}"));
+  ASSERT_NE(air.tracker, nullptr);
+  EXPECT_EQ(air.tracker->plans_done(), 1u);
 }
 
 TEST(PathTracker, TheExampleLaunchFileBringsBothRobotsToTheirGoals) {
