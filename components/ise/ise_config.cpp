@@ -42,6 +42,9 @@ std::string IseConfig::validate(double w_th, double voxel_m) const {
   if (gain_rows < 1 || gain_cols < 1 || gain_rows > 1000 || gain_cols > 1000)
     problem("gain_rows and gain_cols must be in [1, 1000]");
   if (completion_updates < 1) problem("completion_updates must be >= 1");
+  if (region_min_m.hasNaN() || region_max_m.hasNaN() ||
+      !(region_min_m.array() < region_max_m.array()).all())
+    problem("region_min_m must be below region_max_m on every axis");
   return out;
 }
 

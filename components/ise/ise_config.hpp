@@ -3,7 +3,9 @@
 // Parameters of ISE extraction, viewpoint generation, clustering and gain (thesis 2.4.2,
 // 2.4.3; tables 2.1, 3.1, 4.1, 5.3). Plain data; validate() says what is out of range.
 
+#include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -61,6 +63,16 @@ struct IseConfig {
   int gain_cols = 17;
   // completion: no inspectable ISE over this many consecutive updates
   int completion_updates = 3;
+  // The region to reconstruct (world frame, m): only ISEs whose voxel centre lies in the
+  // box count (viewpoints may lie outside). Default: everywhere. The thesis scales the
+  // Powerplant into a 65 x 42 x 15 m box and scores within it; outside it (the ground
+  // around the plant, the stacks above 15 m) ISEs would be planned for without end.
+  Eigen::Vector3d region_min_m =
+      Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+  Eigen::Vector3d region_max_m = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  bool in_region(const Eigen::Vector3d& p) const {
+    return (p.array() >= region_min_m.array()).all() && (p.array() <= region_max_m.array()).all();
+  }
 
   // Empty when valid, else every problem, "; "-separated. w_th is the map's W_th (> 0).
   std::string validate(double w_th, double voxel_m) const;

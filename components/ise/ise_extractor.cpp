@@ -63,6 +63,13 @@ IseExtractor::Config IseExtractor::read_config(ParamReader& p) {
   p.optional("gain_rows", c.ise.gain_rows, {1, 1000});
   p.optional("gain_cols", c.ise.gain_cols, {1, 1000});
   p.optional("completion_updates", c.ise.completion_updates, {1, 1000000});
+  std::vector<double> region_min, region_max;
+  p.optional_list("region_min_m", region_min, 3, {-1e6, 1e6});
+  p.optional_list("region_max_m", region_max, 3, {-1e6, 1e6});
+  if (region_min.size() == 3) c.ise.region_min_m = Eigen::Vector3d(region_min.data());
+  if (region_max.size() == 3) c.ise.region_max_m = Eigen::Vector3d(region_max.data());
+  if (!(c.ise.region_min_m.array() < c.ise.region_max_m.array()).all())
+    p.report("region_max_m", "must be above region_min_m on every axis");
   p.optional("ply_path", c.ply_path);
   p.optional("give_up_visits", c.give_up_visits, {0, 1000000});
   p.optional("visit_distance_m", c.visit_distance_m, {0.01, 100});

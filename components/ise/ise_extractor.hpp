@@ -12,8 +12,9 @@
 // `<type>_fov_v_deg`, `<type>_min_range_m`, `<type>_max_range_m`, `<type>_clearance_m`,
 // and for ground robots `ground_camera_height_m`, `ground_floor_z_m`,
 // `ground_body_height_m`; then merge_distance_m, merge_angle_deg, d_v_m, d_v_max_m,
-// gain_rows, gain_cols, completion_updates; ply_path (a picture of the last result, written
-// when the component stops: ise_ply.hpp).
+// gain_rows, gain_cols, completion_updates; region_min_m, region_max_m (the box to
+// reconstruct: ISEs outside it are dropped; default everywhere); ply_path (a picture of the
+// last result, written when the component stops: ise_ply.hpp).
 // Visited and still incomplete (give_up_visits > 0; a deviation from the thesis, docs/ise.md):
 // an ISE that some viewpoint sees while a robot of the team stands at that viewpoint
 // (within visit_distance_m, horizontally for a ground viewpoint, and visit_angle_deg of its

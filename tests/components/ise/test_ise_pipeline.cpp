@@ -171,6 +171,36 @@ TEST(IsePipeline, EmptyMapOrMapWithoutIsesNeverCompletes) {
 
 // --- configuration -----------------------------------------------------------------------
 
+TEST(IsePipeline, IsesOutsideTheRegionAreLeftOut) {
+  // the room's two ISEs lie at x = 0.05 and x = -0.15 m; a region from x = -0.1 m on keeps
+  // the first only, and only its viewpoint; the incremental update agrees with full()
+  VoxelScene scene;
+  test::build_room(scene);
+  IseConfig config = test::pipeline_config();
+  config.region_min_m.x() = -0.1;
+  IsePipeline pipeline = make_pipeline(config);
+  const IseResult& r = pipeline.update(*scene.snapshot());
+  ASSERT_EQ(r.ises.size(), 1u);
+  EXPECT_EQ(key(r.ises[0].voxel), (Key{0, 0, 0}));
+  EXPECT_EQ(r.inspectable_count, 1u);
+  ASSERT_EQ(r.viewpoints.size(), 1u);
+  EXPECT_GT(r.viewpoints[0].position.x(), 1.0);  // (2.05, 0.05, 0.05), facing -x
+
+  scene.next_update();
+  scene.set({-1, 0, 0}, VoxelState::kOccupied);  // the hole closed: no ISE at all
+  const IseResult& after = pipeline.update(*scene.snapshot());
+  EXPECT_TRUE(after.ises.empty());
+  IsePipeline fresh = make_pipeline(config);
+  EXPECT_TRUE(fresh.full(*scene.snapshot()).ises.empty());
+}
+
+TEST(IseConfigValidate, AnEmptyRegionIsNamed) {
+  IseConfig c = test::pipeline_config();
+  c.region_min_m = Eigen::Vector3d(0, 0, 0);
+  c.region_max_m = Eigen::Vector3d(1, 1, 0);
+  EXPECT_NE(c.validate(test::kWth, test::kVoxelM).find("region_min_m"), std::string::npos);
+}
+
 TEST(IseConfigValidate, DefaultsAndTheTestConfigurationAreValid) {
   EXPECT_EQ(IseConfig{}.validate(0.3, 0.2), "");
   EXPECT_EQ(test::pipeline_config().validate(test::kWth, test::kVoxelM), "");
