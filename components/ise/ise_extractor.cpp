@@ -101,6 +101,7 @@ Result<void, std::string> IseExtractor::on_configure() {
                                        [this](Sample<tsdf::MapUpdate>&& s) { on_map(*s); });
   if (config_.give_up_visits > 0) {
     team_poses_.resize(team().size());
+    stays_.resize(team().size());
     for (size_t i = 0; i < team().size(); ++i) {
       if (team()[i].ns.empty()) continue;
       create_subscription<msg::Odometry>(
@@ -120,37 +121,48 @@ Result<void, std::string> IseExtractor::on_configure() {
   return {};
 }
 
-bool IseExtractor::visit_due(int64_t stamp_ns) {
-  if (next_visit_ns_ && stamp_ns < *next_visit_ns_) return false;
-  // a tenth of the period early still counts: camera stamps jitter on hardware, and a
-  // snapshot 0.998 s after the last would otherwise wait for the next one
-  constexpr double kEarly = 0.1;
-  next_visit_ns_ =
-      stamp_ns + static_cast<int64_t>(std::llround((1.0 - kEarly) * config_.visit_period_s * 1e9));
-  return true;
-}
-
 // Every ISE that a viewpoint sees, or was made for, while a robot stands at it counts a
-// visit (once per counting update); at give_up_visits it is given up (C_rem from the next
-// update on).
-void IseExtractor::count_visits(const IseResult& r) {
+// visit: once when the robot arrives (its stay begins), and once more for every
+// visit_period_s it stays; at give_up_visits it is given up (C_rem from the next update on).
+// A stay ends when the robot moves visit_distance_m or turns visit_angle_deg from where it
+// began. Counting per stay, not per map update, gives up after the same looks whatever the
+// update rate (docs/ise.md, "Visited and still incomplete").
+void IseExtractor::count_visits(const IseResult& r, int64_t stamp_ns) {
   const double max_angle = config_.visit_angle_deg * M_PI / 180.0;
-  std::vector<uint8_t> visited(r.ises.size(), 0);
-  for (const RobotPose& pose : team_poses_) {
+  // a tenth of the period early still counts: stamps jitter on hardware, and a look
+  // 0.998 s after the last would otherwise wait for the next update
+  constexpr double kEarly = 0.1;
+  const auto period_ns =
+      static_cast<int64_t>(std::llround((1.0 - kEarly) * config_.visit_period_s * 1e9));
+  std::vector<VoxelIndex> give_up;
+  std::vector<uint8_t> looked(r.ises.size(), 0);
+  for (size_t k = 0; k < team_poses_.size(); ++k) {
+    const RobotPose& pose = team_poses_[k];
     if (!pose.seen) continue;
+    Stay& stay = stays_[k];
+    if (!stay.active || (pose.position - stay.position).norm() > config_.visit_distance_m ||
+        std::abs(std::remainder(pose.yaw_rad - stay.yaw_rad, 2 * M_PI)) > max_angle)
+      stay = Stay{.active = true, .position = pose.position, .yaw_rad = pose.yaw_rad};
+    std::fill(looked.begin(), looked.end(), 0);
     for (const Viewpoint& v : r.viewpoints) {
       const Eigen::Vector3d d = v.position - pose.position;
       const double dist = v.type == RobotType::kGround ? d.head<2>().norm() : d.norm();
       const double angle = std::abs(std::remainder(v.yaw_rad - pose.yaw_rad, 2 * M_PI));
       if (dist > config_.visit_distance_m || angle > max_angle) continue;
-      for (uint32_t id : v.seen) visited[id] = 1;
-      for (uint32_t id : v.ises) visited[id] = 1;  // the ISEs it was made for
+      for (uint32_t id : v.seen) looked[id] = 1;
+      for (uint32_t id : v.ises) looked[id] = 1;  // the ISEs it was made for
+    }
+    for (uint32_t i = 0; i < r.ises.size(); ++i) {
+      if (looked[i] == 0) continue;
+      const VoxelIndex& voxel = r.ises[i].voxel;
+      const auto [it, first] = stay.counted.try_emplace(voxel, stamp_ns);
+      if (!first) {
+        if (stamp_ns - it->second < period_ns) continue;
+        it->second = stamp_ns;
+      }
+      if (++visits_[voxel] == config_.give_up_visits) give_up.push_back(voxel);
     }
   }
-  std::vector<VoxelIndex> give_up;
-  for (uint32_t i = 0; i < r.ises.size(); ++i)
-    if (visited[i] != 0 && ++visits_[r.ises[i].voxel] == config_.give_up_visits)
-      give_up.push_back(r.ises[i].voxel);
   if (give_up.empty()) return;
   pipeline_->give_up(give_up);
   SCANCREW_LOG_INFO(
@@ -174,7 +186,7 @@ void IseExtractor::on_map(const tsdf::MapUpdate& update) {
     pipeline_.emplace(std::move(created).value());
   }
   const IseResult& r = pipeline_->update(snap);
-  if (config_.give_up_visits > 0 && visit_due(update.header.stamp_ns)) count_visits(r);
+  if (config_.give_up_visits > 0) count_visits(r, update.header.stamp_ns);
   ++updates_;
   ms_sum_ += r.stats.total_ms;
   ms_max_ = std::max(ms_max_, r.stats.total_ms);

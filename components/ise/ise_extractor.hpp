@@ -20,10 +20,10 @@
 // (within visit_distance_m, horizontally for a ground viewpoint, and visit_angle_deg of its
 // yaw; poses from each robot's /<ns>/<visit_pose_topic>) in give_up_visits map updates, and
 // is still an ISE, is given up: C_rem from then on (a corner whose far side no camera can
-// reach stays an ISE for good, and its viewpoint would be visited for ever). Visits count in
-// updates at least visit_period_s apart (sim time of the map's stamp), so that the rule
-// gives up after the same time standing whatever the update rate: a station's map updates
-// once per robot's snapshot, and a distributed robot's once more per patch it receives.
+// reach stays an ISE for good, and its viewpoint would be visited for ever). A robot's stay
+// at a viewpoint counts a visit on arrival and one more per visit_period_s it stays, so that
+// the rule gives up after the same looks whatever the map's update rate: a station's map
+// updates once per robot's snapshot, and a distributed robot's once more per patch.
 // Out-of-range values
 // fail at configuration; the map's W_th and voxel size are checked on the first snapshot.
 
@@ -51,8 +51,9 @@ class IseExtractor final : public Component {
     int give_up_visits = 0;  // 0: never give an ISE up (the thesis)
     double visit_distance_m = 0.3;
     double visit_angle_deg = 20.0;
-    // visits count at most once per this much time (0: every map update). Default: the
-    // update period of one robot's own map (snapshot_every 5 frames at 5 Hz)
+    // a robot's stay at a viewpoint counts a visit on arrival and one more per this much
+    // time it stays (0: every map update). Default: the update period of one robot's own
+    // map (snapshot_every 5 frames at 5 Hz)
     double visit_period_s = 1.0;
     std::string visit_pose_topic = "pose_gt";  // or odom (VIO)
   };
@@ -69,9 +70,7 @@ class IseExtractor final : public Component {
   void on_deactivate() override;
   void on_map(const tsdf::MapUpdate& update);
   void publish(const IseResult& r, int64_t stamp_ns);
-  void count_visits(const IseResult& r);
-  // Whether an update stamped stamp_ns counts visits (visit_period_s after the last that did).
-  bool visit_due(int64_t stamp_ns);
+  void count_visits(const IseResult& r, int64_t stamp_ns);
 
   Config config_;
   std::optional<IsePipeline> pipeline_;
@@ -87,7 +86,15 @@ class IseExtractor final : public Component {
   };
   std::vector<RobotPose> team_poses_;
   std::unordered_map<VoxelIndex, int, tsdf::BlockIndexHash> visits_;
-  std::optional<int64_t> next_visit_ns_;  // the earliest stamp that counts visits again
+  // per robot: where it has stood since it stopped moving, and when each ISE it looked at
+  // from there last counted a visit
+  struct Stay {
+    bool active = false;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    double yaw_rad = 0;
+    std::unordered_map<VoxelIndex, int64_t, tsdf::BlockIndexHash> counted;
+  };
+  std::vector<Stay> stays_;
 };
 
 }  // namespace scancrew::ise

@@ -4,7 +4,8 @@
 // once per robot's snapshot, a distributed robot's once more per teammate's patch, and the
 // rule counted updates (the parking lot's 4 distributed robots: the last robot's map came
 // half as often, it gave up 20 ISEs where its teammates gave up 36, and the mission waited
-// ~60 s for it alone).
+// ~60 s for it alone). Each arrival counts: a robot passing through the viewpoint between
+// two updates of a slow clock would not.
 
 #include <gtest/gtest.h>
 
@@ -23,16 +24,20 @@ namespace scancrew::ise {
 namespace {
 
 // Publishes the room's map every map_period_s (stamped now) and the robot's pose at the
-// viewpoint of the ISE (0, 0, 0), (2.05, 0.05, 0.05) facing −x, every 50 ms.
+// viewpoint of the ISE (0, 0, 0), (2.05, 0.05, 0.05) facing −x, every 50 ms; with
+// blink_period_s > 0 the robot stands there for the first half of each period (shifted 0.1 s
+// early) and 1.45 m aside for the second.
 class RoomFeeder final : public Component {
  public:
   static constexpr std::string_view kDescription = "test: the room's map and a standing robot";
   struct Config {
     double map_period_s = 1.0;
+    double blink_period_s = 0;
   };
   static Config read_config(ParamReader& p) {
     Config c;
     p.optional("map_period_s", c.map_period_s, {0.05, 10});
+    p.optional("blink_period_s", c.blink_period_s, {0, 10});
     return c;
   }
   RoomFeeder(ComponentContext c, Config config) : Component(std::move(c)), config_(config) {
@@ -49,7 +54,10 @@ class RoomFeeder final : public Component {
       msg::Odometry& o = **loan;
       o = msg::Odometry{};
       o.header.stamp_ns = clock().now_ns();
-      o.T_world_body.position = {2.05, 0.05, 0.05};
+      const double t = 1e-9 * static_cast<double>(o.header.stamp_ns);
+      const double b = config_.blink_period_s;
+      const bool there = b <= 0 || std::fmod(t + 0.1, b) < 0.5 * b;
+      o.T_world_body.position = {2.05, there ? 0.05 : 1.5, 0.05};
       o.T_world_body.orientation = {.w = 0, .x = 0, .y = 0, .z = 1};  // yaw π
       o.tracking_quality = 1;
       (void)pose_.publish(std::move(*loan));
@@ -96,7 +104,7 @@ struct GiveUp {
 };
 
 // The room's parameters (scenes.hpp pipeline_config) on the component.
-GiveUp run_room(double map_period_s, double visit_period_s) {
+GiveUp run_room(double map_period_s, double visit_period_s, double blink_period_s = 0) {
   const std::string text =
       R"(clock: sim
 executor: {type: step}
@@ -105,7 +113,8 @@ robots:
   - {id: 1, namespace: r1, kind: multirotor, start: [2.05, 0.05, 0.05, 180]}
 components:
   - {name: feed, type: test_room_feeder, params: {map_period_s: )" +
-      std::to_string(map_period_s) + R"(}}
+      std::to_string(map_period_s) + ", blink_period_s: " + std::to_string(blink_period_s) +
+      R"(}}
   - name: ise
     type: ise_extractor
     params: {robot_types: [multirotor], multirotor_delta_pose_m: 2.0,
@@ -146,6 +155,16 @@ TEST(IseExtractor, GivesUpAfterTheSameTimeStandingWhateverTheMapRate) {
     EXPECT_GE(standing_s, 2.0 + map_period_s - 1e-6) << map_period_s;
     EXPECT_LE(standing_s, 2.0 + 2 * map_period_s + 1e-6) << map_period_s;
   }
+}
+
+TEST(IseExtractor, EachArrivalAtTheViewpointCountsAVisit) {
+  // the map every 0.25 s; the robot stands at the viewpoint for one update in two (at 0.5,
+  // 1.0, 1.5 s): three arrivals, given up at the third, in C_rem at 1.75 s. Counting on a
+  // fixed 1 s clock instead counted at 0.5, 1.5 and 2.5 s only
+  const GiveUp g = run_room(0.25, 1.0, 0.5);
+  ASSERT_GE(g.given_up_s, 0);
+  std::printf("[figures] arriving every 0.5 s: given up at %.2f s\n", g.given_up_s);
+  EXPECT_NEAR(g.given_up_s, 1.75, 1e-6);
 }
 
 TEST(IseExtractor, AZeroVisitPeriodCountsEveryUpdate) {
