@@ -65,8 +65,8 @@ struct IseConfig {
   int completion_updates = 3;
   // The region to reconstruct (world frame, m): only ISEs whose voxel centre lies in the
   // box count (viewpoints may lie outside). Default: everywhere. The thesis scales the
-  // Powerplant into a 65 x 42 x 15 m box and scores within it; outside it (the ground
-  // around the plant, the stacks above 15 m) ISEs would be planned for without end.
+  // Powerplant into a 65 x 42 x 15 m box and scores within it; SGBM's false matches put
+  // surface beyond a room's walls and under its floor (launch_cfg/missions/arena_stereo.yaml).
   Eigen::Vector3d region_min_m =
       Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
   Eigen::Vector3d region_max_m = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
