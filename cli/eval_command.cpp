@@ -40,8 +40,9 @@ int run_eval(const EvalOptions& o) {
     std::fprintf(stderr, "scancrew eval: %s\n", scene_meshes.error().c_str());
     return 2;
   }
-  const auto truth = sim::sample_surfaces(*scene, *scene_meshes,
-                                          {.density_per_m2 = o.density_per_m2, .seed = o.seed});
+  const auto truth = sim::sample_surfaces(
+      *scene, *scene_meshes,
+      {.density_per_m2 = o.density_per_m2, .seed = o.seed, .visibility_rays = o.visibility_rays});
   if (!truth) {
     std::fprintf(stderr, "scancrew eval: %s\n", truth.error().c_str());
     return 2;

@@ -16,7 +16,8 @@ struct EvalOptions {
   double voxel_size_m = 0.2;      // r_v of the reconstruction; sets e_max
   double density_per_m2 = 10000;  // ground-truth points per m² (the thesis's density)
   uint64_t seed = 1;
-  bool json = false;  // one JSON object on stdout instead of the summary
+  int visibility_rays = 64;  // the mesh visibility test (sim/surface_sampler.hpp); 0: off
+  bool json = false;         // one JSON object on stdout instead of the summary
 };
 
 // 0 on success (also when nothing is covered: that is a result), 2 on bad input.

@@ -22,8 +22,9 @@ int run_groundtruth(const GroundTruthOptions& o) {
     std::fprintf(stderr, "scancrew groundtruth: %s\n", meshes.error().c_str());
     return 2;
   }
-  auto samples =
-      sim::sample_surfaces(*scene, *meshes, {.density_per_m2 = o.density_per_m2, .seed = o.seed});
+  auto samples = sim::sample_surfaces(
+      *scene, *meshes,
+      {.density_per_m2 = o.density_per_m2, .seed = o.seed, .visibility_rays = o.visibility_rays});
   if (!samples) {
     std::fprintf(stderr, "scancrew groundtruth: %s\n", samples.error().c_str());
     return 2;

@@ -14,6 +14,7 @@ struct GroundTruthOptions {
   std::string out_path;
   double density_per_m2 = 10000;  // the thesis's density
   uint64_t seed = 1;
+  int visibility_rays = 64;  // the mesh visibility test (sim/surface_sampler.hpp); 0: off
 };
 
 int run_groundtruth(const GroundTruthOptions& options);

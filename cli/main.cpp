@@ -184,6 +184,10 @@ int main(int argc, char** argv) {
   groundtruth->add_option("--out", gt_options.out_path, "output file (.ply)")->required();
   groundtruth->add_option("--density", gt_options.density_per_m2, "points per m2 (default 10000)");
   groundtruth->add_option("--seed", gt_options.seed, "random seed (default 1)");
+  groundtruth
+      ->add_option("--visibility-rays", gt_options.visibility_rays,
+                   "ray directions per point of the mesh visibility test, 0: off (default 64)")
+      ->check(CLI::Range(0, 100000));
 
   scancrew::cli::EvalOptions eval_options;
   auto* eval = app.add_subcommand(
@@ -198,6 +202,10 @@ int main(int argc, char** argv) {
   eval->add_option("--density", eval_options.density_per_m2,
                    "ground-truth points per m2 (default 10000)");
   eval->add_option("--seed", eval_options.seed, "ground-truth random seed (default 1)");
+  eval->add_option("--visibility-rays", eval_options.visibility_rays,
+                   "ground truth: ray directions per point of the mesh visibility test, 0: off "
+                   "(default 64)")
+      ->check(CLI::Range(0, 100000));
   eval->add_flag("--json", eval_options.json, "print one JSON object");
 
   std::string report_dir;

@@ -161,8 +161,10 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
   if (!scene) return scores;
   auto meshes = sim::load_scene_meshes(*scene);
   if (!meshes) return scores;
-  const auto truth = sim::sample_surfaces(
-      *scene, *meshes, {.density_per_m2 = monitor.config().eval_density_per_m2, .seed = 1});
+  const auto truth = sim::sample_surfaces(*scene, *meshes,
+                                          {.density_per_m2 = monitor.config().eval_density_per_m2,
+                                           .seed = 1,
+                                           .visibility_rays = monitor.config().visibility_rays});
   if (!truth) {
     std::fprintf(stderr, "scancrew run: evaluation: %s\n", truth.error().c_str());
     return scores;
@@ -253,6 +255,7 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   m["std_error_m"] = number_or_null(e ? e->std_error_m : nan);
   m["rmse_m"] = number_or_null(e ? e->rmse_m : nan);
   m["eval_density_per_m2"] = monitor.config().eval_density_per_m2;
+  m["eval_visibility_rays"] = monitor.config().visibility_rays;
 
   std::map<uint32_t, const low_level::LowLevelPlanner*> planners;
   uint64_t robot_robot = 0, robot_scene = 0;

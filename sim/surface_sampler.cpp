@@ -1,11 +1,16 @@
 #include "sim/surface_sampler.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <random>
 #include <sstream>
+
+#include "sim/mesh_occlusion.hpp"
 
 namespace scancrew::sim {
 
@@ -236,7 +241,8 @@ class Sampler {
     for (size_t i = 0; i < world_.solids.size(); ++i)
       if (static_cast<int>(i) != s.owner && world_.solids[i].box.overlaps(s.box, kHiddenTolerance))
         candidates_.push_back(&world_.solids[i]);
-    sampled_ = kept_ = 0;
+    sampled_ = 0;
+    const size_t begin = out->points.size();
     out_ = out;
     switch (s.kind) {
       case Surface::Kind::kRect:
@@ -273,18 +279,53 @@ class Sampler {
         }
         break;
     }
-    if (sampled_ > 0)
-      out->area_m2 += s.area * static_cast<double>(kept_) / static_cast<double>(sampled_);
+    records_.push_back({s.area, sampled_, begin, out->points.size()});
+  }
+
+  // Drops the points the meshes hide (MeshOcclusion), then sums the visible area: each
+  // surface's area times the fraction of its samples kept.
+  void finish(const MeshOcclusion* occlusion, SurfaceSamples* out) const {
+    std::vector<uint8_t> keep(out->points.size(), 1);
+    if (occlusion != nullptr && !occlusion->empty()) {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, keep.size(), 1024), [&](const auto& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+          const auto& p = out->points[i];
+          const auto& n = out->normals[i];
+          keep[i] = occlusion->exposed({p[0], p[1], p[2]}, {n[0], n[1], n[2]}) ? 1 : 0;
+        }
+      });
+    }
+    size_t w = 0;
+    out->area_m2 = 0;
+    for (const Record& r : records_) {
+      uint64_t kept = 0;
+      for (size_t i = r.begin; i < r.end; ++i) {
+        if (keep[i] == 0) continue;
+        out->points[w] = out->points[i];
+        out->normals[w] = out->normals[i];
+        ++w;
+        ++kept;
+      }
+      if (r.sampled > 0)
+        out->area_m2 += r.area * static_cast<double>(kept) / static_cast<double>(r.sampled);
+    }
+    out->points.resize(w);
+    out->normals.resize(w);
   }
 
  private:
+  struct Record {  // one surface: its area, its samples, where its kept points lie
+    double area;
+    uint64_t sampled;
+    size_t begin, end;
+  };
+
   void offer(const Vec3& p, const Vec3& n) {
     ++sampled_;
     if (p.x < lo_.x || p.y < lo_.y || p.z < lo_.z || p.x > hi_.x || p.y > hi_.y || p.z > hi_.z)
       return;
     for (const Solid* solid : candidates_)
       if (solid->contains(p, kHiddenTolerance)) return;
-    ++kept_;
     out_->points.push_back(
         {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
     out_->normals.push_back(
@@ -296,8 +337,9 @@ class Sampler {
   Uniform u_;
   Vec3 lo_, hi_;
   std::vector<const Solid*> candidates_;
-  uint64_t sampled_ = 0, kept_ = 0;
+  uint64_t sampled_ = 0;
   SurfaceSamples* out_ = nullptr;
+  std::vector<Record> records_;
 };
 
 }  // namespace
@@ -311,6 +353,11 @@ Result<SurfaceSamples, std::string> sample_surfaces(const SceneSpec& scene,
     msg << "surface sampling: the density must be a positive number of points per m2, not " << d;
     return make_unexpected(msg.str());
   }
+  if (options.visibility_rays < 0)
+    return make_unexpected(
+        "surface sampling: visibility_rays must be 0 (no mesh visibility test) "
+        "or a number of ray directions, not " +
+        std::to_string(options.visibility_rays));
   World world;
   add_room(scene, &world);
   for (const BoxSpec& b : scene.boxes) add_box(b, &world);
@@ -342,6 +389,12 @@ Result<SurfaceSamples, std::string> sample_surfaces(const SceneSpec& scene,
   out.normals.reserve(reserve);
   Sampler sampler(scene, world, options);
   for (const Surface& s : world.surfaces) sampler.sample(s, &out);
+  if (options.visibility_rays > 0 && !placed_meshes.empty()) {
+    const MeshOcclusion occlusion(placed_meshes, options.visibility_rays);
+    sampler.finish(&occlusion, &out);
+  } else {
+    sampler.finish(nullptr, &out);
+  }
   return out;
 }
 

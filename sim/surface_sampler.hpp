@@ -20,10 +20,13 @@
 // solids and whatever is buried in another solid; a band of kHiddenTolerance along every
 // contact line goes too (about 1e-4 m² per metre of contact: negligible).
 //
-// Limitation: meshes are triangle soups, not solids. Their points are kept unless they are
-// inside one of the solids above; faces of a mesh hidden inside the mesh itself (a base
-// closed by its own walls, interior partitions) or resting on another mesh are not
-// detected and stay in the ground truth.
+// Meshes are triangle soups, not solids, so the test above cannot see what a mesh closes in
+// (a building's interior floors and partitions, the floor under it). With
+// visibility_rays > 0 (the default) and meshes in the scene, every point is also tested by
+// ray casting (MeshOcclusion, sim/mesh_occlusion.hpp): one that no ray leaves the meshes
+// from is dropped, as the thesis prunes "all the invisible surfaces of the GT mesh" (2.6.2).
+// Scenes without meshes are not affected. With visibility_rays = 0 a mesh's points are kept
+// unless inside one of the solids above.
 
 #include <array>
 #include <cstdint>
@@ -43,6 +46,9 @@ struct SamplingOptions {
   uint64_t seed = 1;
   // refused beyond this (before sampling) instead of filling memory: 24 bytes a point
   size_t max_points = 50'000'000;
+  // directions tried per point by the mesh visibility test (besides the normal and its
+  // reverse); 0 turns the test off. Negative is refused.
+  int visibility_rays = 64;
 };
 
 struct SurfaceSamples {
@@ -56,8 +62,8 @@ struct SurfaceSamples {
 
 // `placed_meshes` are the scene's meshes as load_scene_meshes() returns them (any triangle
 // meshes may be given; they need not match scene.meshes). Errors: a density that is not
-// positive and finite, and a point count (density × total area before hiding) over
-// max_points — the message gives both numbers and the highest density allowed.
+// positive and finite, a negative visibility_rays, and a point count (density × total area before
+// hiding) over max_points — the message gives both numbers and the highest density allowed.
 Result<SurfaceSamples, std::string> sample_surfaces(const SceneSpec& scene,
                                                     const std::vector<TriangleMesh>& placed_meshes,
                                                     const SamplingOptions& options);

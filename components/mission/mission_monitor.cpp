@@ -32,6 +32,7 @@ MissionMonitor::Config MissionMonitor::read_config(ParamReader& p) {
   p.optional("stop_when_complete", c.stop_when_complete);
   p.optional("stall_timeout_s", c.stall_timeout_s, {0, 1e6});
   p.optional("eval_density_per_m2", c.eval_density_per_m2, {1, 1e6});
+  p.optional("visibility_rays", c.visibility_rays, {0, 100000});
   return c;
 }
 
@@ -45,7 +46,8 @@ Result<void, std::string> MissionMonitor::on_configure() {
   if (!config_.scene.empty()) {
     auto truth = mission::SurfaceCoverage::from_scene(
         config_.scene, {.density_per_m2 = config_.coverage_density_per_m2,
-                        .truncation_share = config_.coverage_truncation_share});
+                        .truncation_share = config_.coverage_truncation_share,
+                        .visibility_rays = config_.visibility_rays});
     if (!truth) return make_unexpected("scene: " + truth.error());
     if (truth->points() == 0)
       return make_unexpected("scene: " + config_.scene +

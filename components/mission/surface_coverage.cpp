@@ -19,7 +19,9 @@ Result<SurfaceCoverage, std::string> SurfaceCoverage::from_scene(
   auto meshes = sim::load_scene_meshes(*scene);
   if (!meshes) return make_unexpected(scene_path + ": " + meshes.error());
   auto truth = sim::sample_surfaces(*scene, *meshes,
-                                    {.density_per_m2 = config.density_per_m2, .seed = config.seed});
+                                    {.density_per_m2 = config.density_per_m2,
+                                     .seed = config.seed,
+                                     .visibility_rays = config.visibility_rays});
   if (!truth) return make_unexpected(scene_path + ": " + truth.error());
   return SurfaceCoverage(std::move(truth->points), config);
 }

@@ -26,6 +26,7 @@ struct SurfaceCoverageConfig {
   double truncation_share = 0.99;  // |d| < truncation_share · μ counts as seen
   double min_weight = 0;           // a voxel counts once its weight is above this
   uint64_t seed = 1;
+  int visibility_rays = 64;  // the ground truth's mesh visibility test (surface_sampler.hpp)
 };
 
 class SurfaceCoverage {

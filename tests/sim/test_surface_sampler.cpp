@@ -13,6 +13,7 @@
 
 #include "sim/ply_writer.hpp"
 #include "sim/surface_sampler.hpp"
+#include "tests/sim/test_meshes.hpp"
 
 namespace scancrew::sim {
 namespace {
@@ -210,6 +211,44 @@ TEST(SurfaceSampler, MeshPointsInsideSolidsOrOutsideTheBoundsAreDropped) {
         << "mesh point inside the box";
   }
   EXPECT_NEAR(static_cast<double>(on_mesh), 0.75 * kDensity, 3 * std::sqrt(0.75 * kDensity));
+}
+
+// A closed unit cube on the floor of an open room, with a partition inside it at z = 0.5.
+// Kept: the floor around the cube, the cube's top and sides (5 m2). Left out by the
+// visibility test: the partition and the floor under the cube; by the floor: the cube's base.
+TEST(SurfaceSampler, WhatAMeshClosesInIsLeftOut) {
+  const SceneSpec scene = room(false, false);
+  TriangleMesh partition = square(false);
+  for (auto& v : partition.vertices) v.z = 0.5;
+  for (const bool flipped : {false, true}) {
+    const auto s = sample(scene, {test::cube(flipped), partition});
+    EXPECT_NEAR(s.area_m2, 24 - 1 + 5, 3 * std::sqrt(28 * kDensity) / kDensity);
+    for (const auto& p : s.points) {
+      const bool inside =
+          p[0] > 1e-3 && p[0] < 1 - 1e-3 && p[1] > 1e-3 && p[1] < 1 - 1e-3 && p[2] < 1 - 1e-3;
+      ASSERT_FALSE(inside) << p[0] << " " << p[1] << " " << p[2] << " flipped " << flipped;
+    }
+  }
+  // with the test off, as before it: the partition and the floor under the cube stay
+  auto off = sample_surfaces(scene, {test::cube(), partition},
+                             {.density_per_m2 = kDensity, .visibility_rays = 0});
+  ASSERT_TRUE(off);
+  EXPECT_NEAR(off->area_m2, 24 + 5 + 1, 3 * std::sqrt(30 * kDensity) / kDensity);
+}
+
+TEST(SurfaceSampler, WhatAnOpenMeshShowsStays) {
+  TriangleMesh partition = square(false);
+  for (auto& v : partition.vertices) v.z = 0.5;
+  const auto s = sample(room(false, false), {test::cube(false, true), partition});
+  // the partition, seen from above through the open top, and the four sides (seen from
+  // outside) stay; the floor under the partition is closed in
+  EXPECT_NEAR(s.area_m2, 24 - 1 + 4 + 1, 3 * std::sqrt(28 * kDensity) / kDensity);
+}
+
+TEST(SurfaceSampler, RefusesANegativeVisibilityRayCount) {
+  const auto r = sample_surfaces(room(), {}, {.density_per_m2 = 10, .visibility_rays = -1});
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("visibility_rays"), std::string::npos) << r.error();
 }
 
 TEST(SurfaceSampler, PlyHoldsPointsAndNormals) {

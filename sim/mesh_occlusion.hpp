@@ -1,0 +1,66 @@
+#pragma once
+
+// Which surface points of a scene can be seen from outside its meshes: the thesis scores a
+// reconstruction against the ground-truth mesh with "all the invisible surfaces pruned
+// beforehand (e.g. the interior floor and walls)" (2.6.2). A triangle soup is not a solid, so
+// sim::sample_surfaces cannot tell a wall's outer face from the partitions and floors closed
+// inside a building; this class tells them apart by casting rays.
+//
+// A point is exposed when at least one ray from it, among the point's normal, its reverse
+// and `rays` directions spread evenly over the sphere (a Fibonacci lattice), leaves the
+// meshes' bounding box without crossing a mesh triangle or going under the floor (z = 0).
+// Both sides of a triangle block, and rays are cast on both sides of the point's surface,
+// so a mesh whose winding points inward is judged as one that points outward. A point
+// outside the meshes' bounding box is exposed.
+//
+// Limits: what blocks is the meshes and the floor only (boxes, cylinders and walls are
+// handled by sample_surfaces' solid test); a point seen only through a gap that none of
+// the directions passes counts as hidden (more rays, finer lattice).
+//
+// Thread safety: const member functions may be called from several threads at once.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "interfaces/geometry.hpp"
+#include "sim/mesh_io.hpp"
+
+namespace scancrew::sim {
+
+class MeshOcclusion {
+ public:
+  // Copies the triangles of every mesh and builds a bounding-volume hierarchy over them
+  // (median split on the longest axis, up to 4 triangles a leaf). Degenerate triangles are
+  // left out.
+  MeshOcclusion(const std::vector<TriangleMesh>& meshes, int rays);
+
+  bool empty() const { return triangles_.empty(); }
+  size_t triangle_count() const { return triangles_.size(); }
+
+  // Whether p (with unit normal n) is seen from outside the meshes (class comment).
+  bool exposed(const msg::Vec3& p, const msg::Vec3& n) const;
+
+  // Whether the segment origin + t dir, t in [t_min, t_max], crosses a triangle.
+  bool blocked(const msg::Vec3& origin, const msg::Vec3& dir, double t_min, double t_max) const;
+
+ private:
+  struct Triangle {
+    msg::Vec3 v0, e1, e2;  // v1 = v0 + e1, v2 = v0 + e2
+  };
+  struct Node {
+    msg::Vec3 lo, hi;
+    uint32_t first = 0, count = 0;  // leaf: triangles [first, first + count); inner: count 0
+    uint32_t right = 0;             // inner: the left child is the next node
+  };
+
+  uint32_t build(uint32_t first, uint32_t count, std::vector<msg::Vec3>& centroids);
+  bool escapes(const msg::Vec3& origin, const msg::Vec3& dir) const;
+
+  std::vector<Triangle> triangles_;
+  std::vector<Node> nodes_;
+  std::vector<msg::Vec3> directions_;
+  msg::Vec3 lo_, hi_;  // the triangles' bounding box, grown by kMargin
+};
+
+}  // namespace scancrew::sim
