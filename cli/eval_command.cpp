@@ -1,6 +1,7 @@
 #include "cli/eval_command.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -8,6 +9,7 @@
 #include "eval/ply_mesh.hpp"
 #include "eval/reconstruction_error.hpp"
 #include "sim/mesh_io.hpp"
+#include "sim/ply_writer.hpp"
 #include "sim/surface_sampler.hpp"
 
 namespace scancrew::cli {
@@ -51,11 +53,26 @@ int run_eval(const EvalOptions& o) {
 
   const auto eval_start = std::chrono::steady_clock::now();
   const auto r = eval::reconstruction_error(*mesh, truth->points, truth->normals,
-                                            {.e_max_m = eval::max_error_for_voxel(o.voxel_size_m)});
+                                            {.e_max_m = eval::max_error_for_voxel(o.voxel_size_m),
+                                             .per_point_error = !o.missed_path.empty()});
   const double eval_s = seconds_since(eval_start);
   if (!r) {
     std::fprintf(stderr, "scancrew eval: %s: %s\n", o.mesh_path.c_str(), r.error().c_str());
     return 2;
+  }
+  if (!o.missed_path.empty()) {
+    // the ground-truth points no part of the mesh came within e_max of (NaN error)
+    std::vector<std::array<float, 3>> points, normals;
+    for (size_t i = 0; i < r->point_error_m.size(); ++i)
+      if (std::isnan(r->point_error_m[i])) {
+        points.push_back(truth->points[i]);
+        normals.push_back(truth->normals[i]);
+      }
+    const std::string about = "scancrew eval: ground-truth points not covered by " + o.mesh_path;
+    if (auto w = sim::write_ply(o.missed_path, points, normals, {about}); !w) {
+      std::fprintf(stderr, "scancrew eval: %s\n", w.error().c_str());
+      return 2;
+    }
   }
 
   if (o.json) {

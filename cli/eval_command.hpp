@@ -17,6 +17,7 @@ struct EvalOptions {
   double density_per_m2 = 10000;  // ground-truth points per m² (the thesis's density)
   uint64_t seed = 1;
   int visibility_rays = 64;  // the mesh visibility test (sim/surface_sampler.hpp); 0: off
+  std::string missed_path;   // "": none; else the points not covered, as a PLY with normals
   bool json = false;         // one JSON object on stdout instead of the summary
 };
 

@@ -206,6 +206,8 @@ int main(int argc, char** argv) {
                    "ground truth: ray directions per point of the mesh visibility test, 0: off "
                    "(default 64)")
       ->check(CLI::Range(0, 100000));
+  eval->add_option("--missed", eval_options.missed_path,
+                   "write the ground-truth points not covered to this PLY (with normals)");
   eval->add_flag("--json", eval_options.json, "print one JSON object");
 
   std::string report_dir;
