@@ -28,6 +28,9 @@ std::string IseConfig::validate(double w_th, double voxel_m) const {
     if (!(t.fov_h_deg > 0 && t.fov_h_deg < 180 && t.fov_v_deg > 0 && t.fov_v_deg < 180))
       problem(name + ": FOV must be in (0, 180) degrees");
     if (!(t.clearance_m >= 0)) problem(name + ": clearance_m must be >= 0");
+    if (std::isnan(t.min_altitude_m) || std::isnan(t.max_altitude_m) ||
+        !(t.min_altitude_m < t.max_altitude_m))
+      problem(name + ": min_altitude_m must be below max_altitude_m");
     if (t.type == RobotType::kGround &&
         !(t.camera_height_m > 0 && t.body_height_m > 0 && std::isfinite(t.floor_z_m)))
       problem(name + ": camera_height_m and body_height_m must be positive");

@@ -47,6 +47,12 @@ struct RobotTypeSpec {
   // missions kept 1930 of 2172 ISEs in C_rem and stopped exploring at ~5 % coverage
   // (docs/missions.md, "Powerplant").
   bool viewpoint_in_unknown = false;
+  // multirotors: the altitude band the low-level planner flies in (its
+  // multirotor_min/max_altitude_m). A candidate below or above it is moved to its edge, kept
+  // only if the ISE stays within the vertical FOV (not in the thesis, which gives no band:
+  // without it the planner refused viewpoints 0.6 m up as bad_input, tour after tour).
+  double min_altitude_m = -std::numeric_limits<double>::infinity();
+  double max_altitude_m = std::numeric_limits<double>::infinity();
 };
 
 struct IseConfig {

@@ -22,6 +22,10 @@ void read_type(ParamReader& p, const std::string& name, RobotTypeSpec& t) {
   p.optional(name + "_clearance_m", t.clearance_m, {0, 100});
   p.optional(name + "_unknown_is_free", t.unknown_is_free);
   p.optional(name + "_viewpoint_in_unknown", t.viewpoint_in_unknown);
+  if (t.type == RobotType::kMultirotor) {
+    p.optional(name + "_min_altitude_m", t.min_altitude_m, {-1e4, 1e4});
+    p.optional(name + "_max_altitude_m", t.max_altitude_m, {-1e4, 1e4});
+  }
   if (t.type == RobotType::kGround) {
     p.optional(name + "_camera_height_m", t.camera_height_m, {0.01, 100});
     p.optional(name + "_floor_z_m", t.floor_z_m, {-1e4, 1e4});

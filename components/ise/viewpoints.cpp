@@ -46,6 +46,13 @@ std::optional<Viewpoint> candidate(const Ise& ise, const RobotTypeSpec& type) {
                           std::sin(e));
     }
     vp.position = ise.center + type.delta_pose_m * d;
+    // into the altitude band, if the ISE stays in view from there
+    const double z = std::clamp(vp.position.z(), type.min_altitude_m, type.max_altitude_m);
+    if (z != vp.position.z()) {
+      vp.position.z() = z;
+      const double flat = (ise.center - vp.position).head<2>().norm();
+      if (std::abs(std::atan2(ise.center.z() - z, flat)) > half_v) return std::nullopt;
+    }
   }
   const Eigen::Vector3d look = ise.center - vp.position;
   vp.yaw_rad = std::atan2(look.y(), look.x());

@@ -41,7 +41,8 @@ struct Viewpoint {
 
 // The candidate pose for one ISE and robot type, before the feasibility check; nullopt
 // when the type cannot look at it (no direction; ground: no horizontal part, or the ISE
-// outside the vertical FOV).
+// outside the vertical FOV; multirotor: moved into its altitude band, the ISE outside the
+// vertical FOV).
 std::optional<Viewpoint> candidate(const Ise& ise, const RobotTypeSpec& type);
 
 // Whether a robot of this type can stand at the position (clearance, known free space).

@@ -201,6 +201,13 @@ TEST(IseConfigValidate, AnEmptyRegionIsNamed) {
   EXPECT_NE(c.validate(test::kWth, test::kVoxelM).find("region_min_m"), std::string::npos);
 }
 
+TEST(IseConfigValidate, AnEmptyAltitudeBandIsNamed) {
+  IseConfig c = test::pipeline_config();
+  c.robot_types[0].min_altitude_m = 5;
+  c.robot_types[0].max_altitude_m = 1;
+  EXPECT_NE(c.validate(test::kWth, test::kVoxelM).find("min_altitude_m"), std::string::npos);
+}
+
 TEST(IseConfigValidate, DefaultsAndTheTestConfigurationAreValid) {
   EXPECT_EQ(IseConfig{}.validate(0.3, 0.2), "");
   EXPECT_EQ(test::pipeline_config().validate(test::kWth, test::kVoxelM), "");

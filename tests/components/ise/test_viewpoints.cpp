@@ -86,6 +86,27 @@ TEST(ViewpointCandidate, MultirotorClampsSteepDirectionsToTheLevelCamerasFov) {
   EXPECT_NEAR((vp->position - c).norm(), 1.5, 1e-12);
 }
 
+TEST(ViewpointCandidate, MultirotorIsMovedIntoItsAltitudeBandWhileTheIseStaysInView) {
+  RobotTypeSpec t = multirotor();
+  t.min_altitude_m = 1.0;
+  t.max_altitude_m = 3.0;
+  // a wall's ISE 0.3 m up, looking along +y: raised from 0.3 to 1.0 m (25° down < 30°)
+  auto vp = candidate(ise_at({0, 0, 0.3}, {0, 1, 0}), t);
+  ASSERT_TRUE(vp.has_value());
+  expect_near(vp->position, {0, 1.5, 1.0});
+  EXPECT_NEAR(vp->yaw_rad, -M_PI / 2, 1e-12);
+  // 3.5 m up: lowered to 3.0 m
+  vp = candidate(ise_at({0, 0, 3.5}, {1, 0, 0}), t);
+  ASSERT_TRUE(vp.has_value());
+  expect_near(vp->position, {1.5, 0, 3.0});
+  // on the floor, 0.05 m up: 1.0 m would see it 32° down, outside the ±30° FOV
+  EXPECT_FALSE(candidate(ise_at({0, 0, 0.05}, {0, 1, 0}), t).has_value());
+  // within the band: as without it
+  vp = candidate(ise_at({0, 0, 2}, {0, 1, 0}), t);
+  ASSERT_TRUE(vp.has_value());
+  expect_near(vp->position, {0, 1.5, 2});
+}
+
 TEST(ViewpointCandidate, GroundRobotStaysAtCameraHeightAlongTheHorizontalPart) {
   const Eigen::Vector3d c(1, 2, 0.5);
   auto vp = candidate(ise_at(c, {3, 4, 5}), ground());
