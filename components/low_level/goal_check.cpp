@@ -27,4 +27,11 @@ bool goal_reached(RobotKind kind, const Eigen::Vector3d& position, double yaw_ra
   return yaw_error <= config.yaw_tolerance_deg * std::numbers::pi / 180.0;
 }
 
+bool aside_on_the_way(RobotKind kind, const Eigen::Vector3d& position,
+                      const Eigen::Vector3d& aside_point, double sent_ago_s,
+                      const GoalCheckConfig& config, double max_wait_s) {
+  return goal_distance_m(kind, position, aside_point) > config.position_tolerance_m &&
+         sent_ago_s < max_wait_s;
+}
+
 }  // namespace scancrew::low_level

@@ -33,4 +33,12 @@ double goal_distance_m(RobotKind kind, const Eigen::Vector3d& position,
 bool goal_reached(RobotKind kind, const Eigen::Vector3d& position, double yaw_rad,
                   const Eigen::Vector3d& goal, double goal_yaw_rad, const GoalCheckConfig& config);
 
+// An idle robot sent to an aside point `sent_ago_s` ago is still on its way there: farther
+// from it than the position tolerance, measured as GoalReached measures (a multirotor sent
+// straight up or down is not there at once), and sent less than `max_wait_s` ago. False on
+// non-finite input (the caller then decides again).
+bool aside_on_the_way(RobotKind kind, const Eigen::Vector3d& position,
+                      const Eigen::Vector3d& aside_point, double sent_ago_s,
+                      const GoalCheckConfig& config, double max_wait_s);
+
 }  // namespace scancrew::low_level

@@ -592,10 +592,9 @@ void LowLevelPlanner::make_way() {
   if (!config_.traffic_policy || teammates_.empty() || !map_) return;
   if (last_maneuver_ == msg::Maneuver::Kind::kStepAside) {
     if (!aside_sent_) return;
-    const double to_go =
-        (msg::to_eigen(pose_->T_world_body.position) - aside_sent_->point).head<2>().norm();
-    if (to_go > checks_.goal.position_tolerance_m &&
-        now_s() - aside_sent_->at_s < checks_.traffic.max_wait_s)
+    if (aside_on_the_way(checks_.obstacle.kind, msg::to_eigen(pose_->T_world_body.position),
+                         aside_sent_->point, now_s() - aside_sent_->at_s, checks_.goal,
+                         checks_.traffic.max_wait_s))
       return;           // on the way
     traffic_->reset();  // from here, a new aside point if still in the way
   }

@@ -47,6 +47,21 @@ TEST(GoalCheck, NonFiniteInputIsNeverReached) {
   EXPECT_FALSE(goal_reached(RobotKind::kGround, {0, 0, 0}, nan, {0, 0, 0}, 0, c));
 }
 
+TEST(GoalCheck, AMultirotorSentStraightUpIsOnItsWayUntilItClimbs) {
+  // make_way's test: measured in the plane, an aside point 0.9 m straight up was "reached"
+  // at once and the idle multirotor was sent aside again at every tick
+  const GoalCheckConfig c;  // 0.25 m
+  const Eigen::Vector3d aside(1, 2, 3.9);
+  EXPECT_TRUE(aside_on_the_way(RobotKind::kMultirotor, {1, 2, 3.0}, aside, 0.1, c, 30));
+  EXPECT_FALSE(aside_on_the_way(RobotKind::kMultirotor, {1, 2, 3.8}, aside, 2.0, c, 30));
+  EXPECT_FALSE(aside_on_the_way(RobotKind::kGround, {1, 2, 3.0}, aside, 0.1, c, 30));
+  EXPECT_TRUE(aside_on_the_way(RobotKind::kGround, {1, 1, 3.9}, aside, 0.1, c, 30));
+  // past max_wait_s it decides again, wherever it is
+  EXPECT_FALSE(aside_on_the_way(RobotKind::kMultirotor, {1, 2, 3.0}, aside, 30.0, c, 30));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(aside_on_the_way(RobotKind::kMultirotor, {nan, 2, 3.0}, aside, 0.1, c, 30));
+}
+
 TEST(UtilityCheck, AsksForANewTourOnceCThresOfTheStartIsesAreDone) {
   const UtilityCheckConfig c;  // 80 %, tables 2.1, 3.1, 4.1
   EXPECT_FALSE(utility_check(10, 10, c).update);
