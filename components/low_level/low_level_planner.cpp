@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "components/low_level/goal_check.hpp"
 #include "components/low_level/map_queries.hpp"
 #include "components/low_level/obstacle_check.hpp"
+#include "components/low_level/path_recheck.hpp"
 #include "components/low_level/redundancy_check.hpp"
 #include "components/low_level/utility_check.hpp"
 #include "executors/log.hpp"
@@ -40,22 +42,7 @@ std::vector<Eigen::Vector3d> remaining_path(const std::vector<msg::Waypoint>& pa
                                             const Eigen::Vector3d& position) {
   std::vector<Eigen::Vector3d> rest;
   if (path.empty()) return rest;
-  size_t from = 0;  // the first waypoint ahead
-  if (path.size() >= 2) {
-    double best = std::numeric_limits<double>::infinity();
-    for (size_t k = 0; k + 1 < path.size(); ++k) {
-      const Eigen::Vector3d a = msg::to_eigen(path[k].position);
-      const Eigen::Vector3d ab = msg::to_eigen(path[k + 1].position) - a;
-      const double t = ab.squaredNorm() > 0
-                           ? std::clamp((position - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0)
-                           : 0.0;
-      const double d = (a + t * ab - position).squaredNorm();
-      if (d < best) {
-        best = d;
-        from = k + 1;
-      }
-    }
-  }
+  const size_t from = first_waypoint_ahead(path, position);
   rest.reserve(path.size() - from);
   for (size_t k = from; k < path.size(); ++k) rest.push_back(msg::to_eigen(path[k].position));
   return rest;
@@ -75,6 +62,7 @@ LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
   p.optional("backoff_step_m", c.backoff_step_m, {0.01, 10});
   p.optional("backoff_min_m", c.backoff_min_m, {0.01, 100});
   p.optional("goal_nudge_max_m", c.goal_nudge_max_m, {0, 10});
+  p.optional("path_recheck_horizon_m", c.path_recheck_horizon_m, {0, 1000});
   if (c.backoff_min_m > c.backoff_max_m) p.report("backoff_min_m", "must not exceed backoff_max_m");
   p.optional("ground_nominal_speed_mps", c.ground_nominal_speed_mps, {0.01, 100});
   p.optional("multirotor_nominal_speed_mps", c.multirotor_nominal_speed_mps, {0.01, 100});
@@ -121,6 +109,7 @@ Result<void, std::string> LowLevelPlanner::on_configure() {
     if (s->map == nullptr) return;
     map_ = s->map;
     planner_->update_map(map_, s->header.stamp_ns);
+    map_unchecked_ = true;
   });
   create_subscription<msg::IseSet>("ises", {.depth = 1}, [this](Sample<msg::IseSet>&& s) {
     const double voxel = map_ ? map_->voxel_m() : config_.planner.collision_check_step_m;
@@ -315,6 +304,7 @@ void LowLevelPlanner::plan_to_goal() {
       local_path_ = r.path;
       ++stats_.paths;
       path_sent_ = true;
+      map_unchecked_ = false;  // planned on the newest snapshot
       stopped_ = false;
       consecutive_failures_ = 0;
       mode_ = Mode::kMoving;
@@ -465,6 +455,24 @@ void LowLevelPlanner::watch_motion() {
       take(sequence, id);
     }
     return;
+  }
+  if (map_unchecked_ && !stopped_ && config_.path_recheck_horizon_m > 0) {
+    map_unchecked_ = false;
+    const PathRecheck r =
+        recheck_path(local_path_, position, config_.path_recheck_horizon_m,
+                     config_.planner.collision_check_step_m,
+                     [this](const msg::Waypoint& w) { return planner_->is_free(w); });
+    if (r.blocked) {
+      ++stats_.paths_blocked;
+      char what[160];
+      std::snprintf(what, sizeof what,
+                    "a newer map blocks the local path %.2f m ahead, at (%.2f, %.2f, %.2f): "
+                    "planned again from here (further such cases are counted)",
+                    r.blocked_at_m, r.where.x(), r.where.y(), r.where.z());
+      log_once("path_blocked", what);
+      path_sent_ = false;  // the next tick plans to the same goal from the robot's pose
+      return;
+    }
   }
   if (map_ && !stopped_) {
     // only an obstacle ahead of the motion stops the robot: one behind or beside it that
@@ -632,7 +640,7 @@ void LowLevelPlanner::on_deactivate() {
   SCANCREW_LOG_INFO(
       "%s: %llu tours, %llu goals reached, %llu skipped, %llu paths (%.1f ms mean, %.1f max), "
       "%llu replanning requests, %llu emergency stops, %llu back-offs, %llu traffic holds, %llu "
-      "redundancies, %.1f m travelled, %llu goals nudged",
+      "redundancies, %.1f m travelled, %llu goals nudged, %llu paths blocked by a newer map",
       qualified_name().c_str(), static_cast<unsigned long long>(stats_.tours),
       static_cast<unsigned long long>(stats_.goals_reached),
       static_cast<unsigned long long>(stats_.goals_skipped),
@@ -645,7 +653,8 @@ void LowLevelPlanner::on_deactivate() {
       static_cast<unsigned long long>(stats_.backoffs),
       static_cast<unsigned long long>(stats_.traffic_holds),
       static_cast<unsigned long long>(stats_.redundancies), stats_.path_length_m,
-      static_cast<unsigned long long>(stats_.goals_nudged));
+      static_cast<unsigned long long>(stats_.goals_nudged),
+      static_cast<unsigned long long>(stats_.paths_blocked));
 }
 
 SCANCREW_REGISTER_COMPONENT(LowLevelPlanner, "low_level_planner")

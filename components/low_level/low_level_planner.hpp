@@ -35,6 +35,7 @@
 //
 // Parameters: pose_source, control_period_s, traffic_policy, redundancy_check,
 // max_consecutive_failures, replan_timeout_s, backoff_max_m, backoff_step_m, backoff_min_m,
+// goal_nudge_max_m, path_recheck_horizon_m,
 // `<kind>_nominal_speed_mps`,
 // `<kind>_traffic_radius_m`, the planner core's keys
 // (read_planner_config: robot_type is the launch file's kind) and the checks' keys
@@ -83,6 +84,11 @@ class LowLevelPlanner final : public Component {
     // the ellipse) differ at the edges, and a skipped viewpoint came back in every new plan.
     // 0: skip at once.
     double goal_nudge_max_m = 0.3;
+    // at each new map snapshot, the local path ahead of the robot is checked again out to
+    // this arc length (path_recheck.hpp); blocked: planned again from where the robot is.
+    // About the camera's range: farther, the map changes again before the robot gets there.
+    // 0: never (the thesis's behaviour).
+    double path_recheck_horizon_m = 5.0;
     // the traffic policy's view of every robot of the kind: nominal speed (table 5.3: 0.5
     // m/s ground; 2.6.1: 0.6 m/s multirotor) and the radius holding its body (the ground
     // robot of sim/robot_model.hpp: 0.44 x 0.40 m; a multirotor with rotors: 0.5 m)
@@ -107,6 +113,7 @@ class LowLevelPlanner final : public Component {
     uint64_t emergency_stops = 0;
     uint64_t backoffs = 0;       // starts in collision left by backing off
     uint64_t goals_nudged = 0;   // goals in collision moved to a free pose near them
+    uint64_t paths_blocked = 0;  // local paths a newer map blocked ahead: planned again
     uint64_t traffic_holds = 0;  // stop or step aside maneuvers
     uint64_t redundancies = 0;
     double plan_ms_sum = 0, plan_ms_max = 0;
@@ -174,6 +181,7 @@ class LowLevelPlanner final : public Component {
   bool path_sent_ = false;                    // a local path to the current goal is out
   std::vector<msg::Waypoint> local_path_;     // the last one sent (the traffic policy's)
   bool stopped_ = false;                      // an emergency stop is in force
+  bool map_unchecked_ = false;                // a snapshot newer than the path's last check
   std::optional<msg::Waypoint> backing_off_;  // the free pose it is backing off to
   msg::Vec3 backoff_start_;                   // from where
   int consecutive_failures_ = 0;
