@@ -61,6 +61,8 @@ std::vector<uint32_t> visible_ises(const tsdf::MapSnapshot& snap, const IseIndex
   const Eigen::Vector3d forward(std::cos(yaw_rad), std::sin(yaw_rad), 0);
   const Eigen::Vector3d left(-std::sin(yaw_rad), std::cos(yaw_rad), 0);
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  BlockIndex ids_of = IseIndex::block_of(tsdf::voxel_of(position, r));
+  const IseIndex::BlockIds* ids = ises.block(ids_of);
   for (int i = 0; i < rows; ++i)
     for (int j = 0; j < cols; ++j) {
       // ray through the centre of cell (i, j) of a rows × cols grid over the image plane
@@ -74,7 +76,16 @@ std::vector<uint32_t> visible_ises(const tsdf::MapSnapshot& snap, const IseIndex
              const tsdf::VoxelState s = reader.state(v);
              if (s == tsdf::VoxelState::kOccupied) return false;
              if (s == tsdf::VoxelState::kUnknown && !type.viewpoint_in_unknown) return false;
-             if (const auto it = ises.find(v); it != ises.end()) seen.push_back(it->second);
+             // the ISE table of v's block, looked up again only when the ray leaves it
+             const BlockIndex b = IseIndex::block_of(v);
+             if (b != ids_of) {
+               ids = ises.block(b);
+               ids_of = b;
+             }
+             if (ids != nullptr) {
+               const uint32_t id = (*ids)[static_cast<size_t>(IseIndex::slot(v))];
+               if (id != IseIndex::kNone) seen.push_back(id);
+             }
              return true;
            });
     }

@@ -10,16 +10,13 @@
 
 #include <Eigen/Core>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "components/ise/ise.hpp"
 #include "components/ise/ise_config.hpp"
+#include "components/ise/ise_index.hpp"
 
 namespace scancrew::ise {
-
-// ISE voxel → its index in the ISE list.
-using IseIndex = std::unordered_map<VoxelIndex, uint32_t, tsdf::BlockIndexHash>;
 
 // The ISEs seen from a camera at `position` looking along `yaw_rad`, sorted, unique.
 std::vector<uint32_t> visible_ises(const tsdf::MapSnapshot& snap, const IseIndex& ises,

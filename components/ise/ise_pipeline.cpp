@@ -234,12 +234,12 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
   for (size_t i = 0; i < out.viewpoints.size(); ++i) {
     if (cached[i] == nullptr) continue;
     for (const VoxelIndex& v : cached[i]->ises)
-      if (const auto it = index.find(v); it != index.end())
-        out.viewpoints[i].seen.push_back(it->second);
+      if (const uint32_t id = index.find(v); id != IseIndex::kNone)
+        out.viewpoints[i].seen.push_back(id);
   }
   for (size_t i = 0; i < compute.size(); ++i) {
     Viewpoint& v = out.viewpoints[compute[i]];
-    for (const VoxelIndex& voxel : computed[i].ises) v.seen.push_back(index.at(voxel));
+    for (const VoxelIndex& voxel : computed[i].ises) v.seen.push_back(index.find(voxel));
     seen_[key_of(v)] = std::move(computed[i]);
   }
   const size_t merged_viewpoints = out.viewpoints.size();

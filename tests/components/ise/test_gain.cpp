@@ -38,10 +38,13 @@ RobotTypeSpec camera() {
 // looks along −x.
 struct Corridor {
   VoxelScene scene;
-  IseIndex ises{{{20, 0, 0}, 0}, {{30, 0, 0}, 1}, {{-5, 0, 0}, 2}};
+  IseIndex ises;
   const Eigen::Vector3d cam1{0.05, 0.05, 0.05};
   const Eigen::Vector3d cam2{3.55, 0.05, 0.05};
   Corridor() {
+    ises.emplace({20, 0, 0}, 0);
+    ises.emplace({30, 0, 0}, 1);
+    ises.emplace({-5, 0, 0}, 2);
     scene.fill({-10, -10, -10}, {40, 10, 10}, VoxelState::kEmpty);
     scene.fill({25, -10, -10}, {25, 10, 10}, VoxelState::kOccupied);
   }
