@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
+#include <queue>
+#include <utility>
 
 namespace scancrew::tsga::detail {
 
@@ -90,33 +93,58 @@ std::span<const int> IlsEngine::in_neighbours(int node) const {
 }
 
 void IlsEngine::construct_greedy() {
+  // Greedy edge, lazily: the arcs are taken in (cost, index) order, as a full sort would
+  // give them, but each node's out-arcs are read in (cost, head) order from its candidate
+  // list, and only a node that has used those up gets its whole row sorted. A heap holds
+  // one arc per node that still has no successor: its cheapest arc not yet refused. An arc
+  // that becomes unusable stays so, so the arc popped first among the usable ones is the
+  // cheapest usable arc of all. (Sorting all n² arcs was the TSGA planner's largest cost on
+  // the powerplant's clusters of hundreds of viewpoints; docs/tsga.md.)
   const size_t nn = idx(n_);
-  std::vector<int> arcs;
-  arcs.reserve(nn * (nn - 1));
-  for (int i = 0; i < n_; ++i)
-    for (int j = 0; j < n_; ++j)
-      if (i != j) arcs.push_back(i * n_ + j);
-  std::sort(arcs.begin(), arcs.end(), [&](int a, int b) {
-    const double ca = costs_[idx(a)];
-    const double cb = costs_[idx(b)];
-    return ca < cb || (ca == cb && a < b);
-  });
+  const size_t k = idx(k_);
+  std::vector<std::vector<int>> row(nn);  // a node's heads in (cost, head) order, on demand
+  const auto head_at = [&](int i, int rank) {
+    if (rank < k_) return out_nb_[idx(i) * k + idx(rank)];
+    std::vector<int>& r = row[idx(i)];
+    if (r.empty()) {
+      for (int j = 0; j < n_; ++j)
+        if (j != i) r.push_back(j);
+      std::sort(r.begin(), r.end(), [&](int a, int b) {
+        const double ca = c(i, a);
+        const double cb = c(i, b);
+        return ca < cb || (ca == cb && a < b);
+      });
+    }
+    return r[idx(rank)];
+  };
+  std::vector<int> rank(nn, 0);
+  using Arc = std::pair<double, int>;  // (cost, i * n + j): the order of a full sort
+  std::priority_queue<Arc, std::vector<Arc>, std::greater<>> heap;
+  const auto push_next = [&](int i) {
+    if (rank[idx(i)] >= n_ - 1) return;
+    const int j = head_at(i, rank[idx(i)]);
+    heap.emplace(c(i, j), i * n_ + j);
+  };
+  for (int i = 0; i < n_; ++i) push_next(i);
   std::vector<int> next(nn, -1);
   std::vector<int> prev(nn, -1);
   std::vector<int> parent(nn);
   std::iota(parent.begin(), parent.end(), 0);
   int added = 0;
-  for (int a : arcs) {
-    if (added == n_ - 1) break;
+  while (added < n_ - 1 && !heap.empty()) {
+    const int a = heap.top().second;
+    heap.pop();
     const int i = a / n_;
     const int j = a % n_;
-    if (next[idx(i)] >= 0 || prev[idx(j)] >= 0) continue;
-    const int ri = find_root(parent, i);
-    const int rj = find_root(parent, j);
-    if (ri == rj) continue;  // would close a subtour
+    // i has no successor (a node leaves the heap when it gets one)
+    if (prev[idx(j)] >= 0 || find_root(parent, i) == find_root(parent, j)) {
+      ++rank[idx(i)];  // refused for good: j has a predecessor, or i and j share a path
+      push_next(i);
+      continue;
+    }
     next[idx(i)] = j;
     prev[idx(j)] = i;
-    parent[idx(ri)] = rj;
+    parent[idx(find_root(parent, i))] = find_root(parent, j);
     ++added;
   }
   // one path is left: walk it from its head

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "components/tsga/atsp.hpp"
@@ -65,6 +66,50 @@ TEST(IlsEngine, EveryKickAndRepairKeepsAValidTourWithATrueCost) {
       ASSERT_TRUE(is_permutation_of_nodes(engine.tour(), n)) << "n " << n << " kick " << i;
       ASSERT_DOUBLE_EQ(engine.cost(), tour_cost(c, engine.tour()));
     }
+  }
+}
+
+// Greedy edge as written: every arc sorted by (cost, index), taken when its tail has no
+// successor, its head no predecessor and it closes no subtour; the path closed into a tour
+// read from its head. The engine pops its arcs from a heap in the same order.
+std::vector<int> greedy_by_full_sort(const CostMatrix& c) {
+  const int n = static_cast<int>(c.size());
+  std::vector<int> arcs;
+  for (int a = 0; a < n * n; ++a)
+    if (a / n != a % n) arcs.push_back(a);
+  const auto cost = [&](int a) {
+    return c(static_cast<size_t>(a / n), static_cast<size_t>(a % n));
+  };
+  std::sort(arcs.begin(), arcs.end(),
+            [&](int a, int b) { return cost(a) < cost(b) || (cost(a) == cost(b) && a < b); });
+  std::vector<int> next(static_cast<size_t>(n), -1), prev(static_cast<size_t>(n), -1);
+  const auto head_of = [&](int v) {
+    while (prev[static_cast<size_t>(v)] >= 0) v = prev[static_cast<size_t>(v)];
+    return v;
+  };
+  int added = 0;
+  for (int a : arcs) {
+    const int i = a / n, j = a % n;
+    if (added == n - 1) break;
+    if (next[static_cast<size_t>(i)] >= 0 || prev[static_cast<size_t>(j)] >= 0) continue;
+    if (head_of(i) == j) continue;  // j heads the path that i ends: a subtour
+    next[static_cast<size_t>(i)] = j;
+    prev[static_cast<size_t>(j)] = i;
+    ++added;
+  }
+  std::vector<int> tour;
+  for (int v = head_of(0); v >= 0; v = next[static_cast<size_t>(v)]) tour.push_back(v);
+  return tour;
+}
+
+TEST(IlsEngine, GreedyConstructionTakesTheArcsInCostThenIndexOrder) {
+  // costs 0..3: most arcs tie, so the index order decides
+  for (size_t n : {4, 9, 31, 80}) {
+    const auto c = test::random_costs(n, 40 + static_cast<uint32_t>(n), 4);
+    std::vector<double> costs(c.values().begin(), c.values().end());
+    detail::IlsEngine engine(costs, static_cast<int>(n), 5);
+    engine.construct_greedy();
+    EXPECT_EQ(engine.tour(), greedy_by_full_sort(c)) << n << " nodes";
   }
 }
 
