@@ -119,6 +119,11 @@ void print_table(const Json& out) {
     else
       std::printf("not measured (--quick)\n");
   }
+  std::printf("\nintra-cluster paths (open path over a cluster's viewpoints, best of 3)\n");
+  std::printf("%10s %5s %8s %9s\n", "viewpoints", "kicks", "ms", "length m");
+  for (const auto& r : out["intra_paths"])
+    std::printf("%10d %5d %8.2f %9.2f\n", r["viewpoints"].get<int>(), r["kicks"].get<int>(),
+                r["ms"].get<double>(), r["length_m"].get<double>());
   std::printf("\ntargets\n");
   for (const auto& t : out["targets"])
     std::printf("  %-52s %9.3f %-3s (limit %g): %s\n", t["target"].get<std::string>().c_str(),
@@ -267,7 +272,42 @@ int run_tsp_bench(const TspBenchOptions& options) {
                    {"final_kicks", planner.final_iterations}};
   }
 
-  // 4. targets
+  // 4. intra-cluster paths (the TSGA planner's τ_lm): the shortest open path over a
+  //    cluster's viewpoints, a closed ATSP with a free dummy node, with the insertion budget.
+  //    Viewpoints spread over a 60 x 1.5 x 15 m slab, as along a facade: the powerplant's
+  //    largest clusters hold hundreds (docs/tsga.md, "Planning time on large maps").
+  out["intra_paths"] = Json::array();
+  {
+    const tsga::PlannerOptions defaults;
+    for (const int n : options.quick ? std::vector<int>{100} : std::vector<int>{100, 300, 600}) {
+      std::mt19937_64 rng(options.seed + static_cast<uint64_t>(n));
+      std::uniform_real_distribution<double> u(0, 1);
+      std::vector<Eigen::Vector3d> p(static_cast<size_t>(n));
+      for (Eigen::Vector3d& v : p) v = Eigen::Vector3d(60 * u(rng), 1.5 * u(rng), 15 * u(rng));
+      tsga::CostMatrix costs(static_cast<size_t>(n) + 1, 0.0);
+      for (size_t a = 0; a < p.size(); ++a)
+        for (size_t b = 0; b < p.size(); ++b) costs(a, b) = (p[a] - p[b]).norm();
+      tsga::SolverOptions so;
+      so.max_iterations = defaults.insertion_iterations;
+      so.seed = options.seed;
+      double best = 1e300, length = 0;
+      for (int r = 0; r < 3; ++r) {
+        const auto t0 = Clock::now();
+        auto tour = tsga::solve_closed_atsp(costs, so);
+        const double ms = ms_since(t0);
+        if (!tour) {
+          std::fprintf(stderr, "bench tsp: intra-cluster path: %s\n", tour.error().c_str());
+          return 2;
+        }
+        best = std::min(best, ms);
+        length = tour->cost;
+      }
+      out["intra_paths"].push_back(
+          {{"viewpoints", n}, {"kicks", so.max_iterations}, {"ms", best}, {"length_m", length}});
+    }
+  }
+
+  // 5. targets
   const std::string over = std::to_string(instances) + " instances";
   out["targets"] = Json::array({
       target("mean gap over the " + over, gap_sum / std::max(instances, 1), kMeanGapTargetPct, "%"),

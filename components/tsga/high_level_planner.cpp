@@ -67,6 +67,7 @@ HighLevelPlanner::Config HighLevelPlanner::read_config(ParamReader& p) {
   p.optional("final_iterations", c.options.final_iterations, {0, 1000000});
   p.optional("seed", c.options.seed);
   p.optional("min_replan_period_s", c.min_replan_period_s, {0, 1e6});
+  p.optional("keep_intra_paths", c.keep_intra_paths);
   p.optional("idle_teammate_s", c.idle_teammate_s, {0, 1e6});
   c.roadmap = low_level::read_planner_config(p);
   return c;
@@ -239,6 +240,10 @@ std::vector<PlanRobot> HighLevelPlanner::plan_robots() const {
 
 PlannerOptions HighLevelPlanner::plan_options() {
   PlannerOptions options = config_.options;
+  if (config_.keep_intra_paths) {
+    intra_paths_.new_generation();
+    options.intra_paths = &intra_paths_;
+  }
   if (!roadmap_) return options;
   if (!have_map_) {
     warn_once("roadmap_no_map",
@@ -324,6 +329,7 @@ void HighLevelPlanner::plan(int64_t stamp_ns, std::optional<size_t> idle) {
   const double ms = ms_since(start);
   ++stats_.plans;
   ms_sum_ += ms;
+  stats_.intra_paths = intra_paths_.stats();
   stats_.max_ms = std::max(stats_.max_ms, ms);
   stats_.mean_ms = ms_sum_ / static_cast<double>(stats_.plans);
   publish(last_, stamp_ns);
@@ -388,6 +394,11 @@ void HighLevelPlanner::on_deactivate() {
       static_cast<unsigned long long>(stats_.plans), stats_.mean_ms, stats_.max_ms,
       static_cast<unsigned long long>(stats_.reallocations),
       static_cast<unsigned long long>(stats_.skipped));
+  if (config_.keep_intra_paths)
+    SCANCREW_LOG_INFO(
+        "%s: intra-cluster paths: %llu kept, %llu found (%.1f ms in all)", qualified_name().c_str(),
+        static_cast<unsigned long long>(stats_.intra_paths.hits),
+        static_cast<unsigned long long>(stats_.intra_paths.misses), stats_.intra_paths.solve_ms);
   if (roadmap_)
     SCANCREW_LOG_INFO(
         "%s: roadmap distances: %llu queries (%.1f ms mean), %llu starting points measured by "

@@ -36,6 +36,9 @@
 //     (seen as a stalled three-process arena run; docs/tsga.md).
 // min_replan_period_s (sim time, from the message stamps) bounds how often cluster updates
 // are planned; requests and idle robots are served at once.
+// keep_intra_paths (default true): a cluster whose viewpoints have not changed since the
+// last plan keeps its intra-cluster path (IntraPathCache); the plans are the same either
+// way, only the time differs.
 //
 // d(τ_kl), the travel from a cluster's exit (or the robot) to the next cluster's entry in
 // f of eq. 2.3 (inter_cluster_distance):
@@ -54,7 +57,8 @@
 //
 // Parameters: algorithm, inter_cluster_distance (euclidean | roadmap), pose_source,
 // `<type>_lambda_tc_per_m` and `<type>_lambda_ic_per_m` for ground and multirotor,
-// insertion_iterations, final_iterations, seed, min_replan_period_s, and with roadmap the
+// insertion_iterations, final_iterations, seed, min_replan_period_s, keep_intra_paths, and
+// with roadmap the
 // low-level planner's keys (docs/low_level_planner.md). Bad clusters (NaN gain, duplicate
 // ids) or poses: the update is skipped with an error logged once per kind; the last plan
 // stands.
@@ -97,6 +101,7 @@ class HighLevelPlanner final : public Component {
     Penalties multirotor{.lambda_tc_per_m = 0.3, .lambda_ic_per_m = 0.03};
     PlannerOptions options;
     double min_replan_period_s = 0;
+    bool keep_intra_paths = true;
     double idle_teammate_s = 0;  // dist_tsga: plan without a teammate idle this long; 0: never
     // inter_cluster_distance: roadmap: the low-level planner's keys (robot_type ignored:
     // the team's type decides)
@@ -114,9 +119,10 @@ class HighLevelPlanner final : public Component {
     uint64_t skipped = 0;        // updates refused (bad input) or throttled
     double mean_ms = 0, max_ms = 0;
     // inter_cluster_distance: roadmap
-    uint64_t roadmap_queries = 0;     // roadmap_distances() calls (one per starting point)
-    uint64_t straight_fallbacks = 0;  // starting points measured by the straight line
-    double roadmap_ms = 0;            // in roadmap_distances(), all plans
+    uint64_t roadmap_queries = 0;       // roadmap_distances() calls (one per starting point)
+    uint64_t straight_fallbacks = 0;    // starting points measured by the straight line
+    double roadmap_ms = 0;              // in roadmap_distances(), all plans
+    IntraPathCache::Stats intra_paths;  // keep_intra_paths: kept / found again
   };
   const Stats& stats() const { return stats_; }
 
@@ -164,6 +170,7 @@ class HighLevelPlanner final : public Component {
   Publisher<msg::TeamPlan> plan_pub_;
   uint64_t plan_id_ = 0;
   std::map<std::string, bool> failures_logged_;
+  IntraPathCache intra_paths_;
   Stats stats_;
   double ms_sum_ = 0;
   std::unique_ptr<low_level::MotionPlanner> roadmap_;  // inter_cluster_distance: roadmap

@@ -1,7 +1,9 @@
 #include "components/tsga/tsga_planner.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <unordered_set>
@@ -9,13 +11,6 @@
 namespace scancrew::tsga {
 
 namespace {
-
-// A cluster's intra-cluster path: its viewpoints in visiting order and its length.
-struct IntraPath {
-  std::vector<Eigen::Vector3d> viewpoints;
-  std::vector<uint32_t> indices;  // of the viewpoints in the cluster's list
-  double length_m = 0;
-};
 
 Result<IntraPath, std::string> intra_path(const PlanCluster& c, const PlannerOptions& o) {
   const size_t m = c.viewpoints.size();
@@ -141,15 +136,93 @@ Result<std::vector<IntraPath>, std::string> intra_paths(const std::vector<PlanCl
                                                         const PlannerOptions& options) {
   std::vector<IntraPath> paths;
   paths.reserve(clusters.size());
+  IntraPathCache* cache = options.intra_paths;
+  const int iterations = options.insertion_iterations;
   for (const PlanCluster& c : clusters) {
+    if (cache != nullptr)
+      if (const IntraPath* kept = cache->find(c.viewpoints, iterations, options.seed)) {
+        paths.push_back(*kept);
+        continue;
+      }
+    const auto start = std::chrono::steady_clock::now();
     auto p = intra_path(c, options);
     if (!p) return make_unexpected(p.error());
     paths.push_back(std::move(p).value());
+    if (cache != nullptr)
+      cache->insert(
+          c.viewpoints, iterations, options.seed, paths.back(),
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count());
   }
   return paths;
 }
 
 }  // namespace
+
+uint64_t IntraPathCache::key(const std::vector<Eigen::Vector3d>& viewpoints, int iterations,
+                             uint64_t seed) {
+  // FNV-1a over the coordinates' bits, the budget and the seed
+  uint64_t h = 1469598103934665603ull;
+  const auto mix = [&h](uint64_t word) {
+    for (int b = 0; b < 8; ++b) {
+      h ^= (word >> (8 * b)) & 0xffu;
+      h *= 1099511628211ull;
+    }
+  };
+  mix(static_cast<uint64_t>(iterations));
+  mix(seed);
+  for (const Eigen::Vector3d& v : viewpoints)
+    for (int a = 0; a < 3; ++a) {
+      uint64_t bits = 0;
+      std::memcpy(&bits, &v[a], sizeof bits);
+      mix(bits);
+    }
+  return h;
+}
+
+IntraPathCache::Map::iterator IntraPathCache::match(Map& map, uint64_t k,
+                                                    const std::vector<Eigen::Vector3d>& viewpoints,
+                                                    int iterations, uint64_t seed) {
+  auto [it, end] = map.equal_range(k);
+  for (; it != end; ++it)
+    if (it->second.iterations == iterations && it->second.seed == seed &&
+        it->second.viewpoints == viewpoints)
+      return it;
+  return map.end();
+}
+
+const IntraPath* IntraPathCache::find(const std::vector<Eigen::Vector3d>& viewpoints,
+                                      int iterations, uint64_t seed) {
+  const uint64_t k = key(viewpoints, iterations, seed);
+  auto it = match(current_, k, viewpoints, iterations, seed);
+  if (it == current_.end()) {
+    auto old = match(previous_, k, viewpoints, iterations, seed);
+    if (old == previous_.end()) {
+      ++stats_.misses;
+      return nullptr;
+    }
+    it = current_.emplace(k, std::move(old->second));
+    previous_.erase(old);
+  }
+  ++stats_.hits;
+  return &it->second.path;
+}
+
+void IntraPathCache::insert(const std::vector<Eigen::Vector3d>& viewpoints, int iterations,
+                            uint64_t seed, IntraPath path, double solve_ms) {
+  stats_.solve_ms += solve_ms;
+  const uint64_t k = key(viewpoints, iterations, seed);
+  if (match(current_, k, viewpoints, iterations, seed) != current_.end()) return;
+  current_.emplace(k, Entry{.viewpoints = viewpoints,
+                            .iterations = iterations,
+                            .seed = seed,
+                            .path = std::move(path)});
+}
+
+void IntraPathCache::new_generation() {
+  previous_ = std::move(current_);
+  current_.clear();
+}
 
 Result<TeamPlan, std::string> plan_tsga(const std::vector<PlanRobot>& robots,
                                         const std::vector<PlanCluster>& clusters,

@@ -8,9 +8,9 @@
 //   nodes: {q_0} (the robot's position) and the clusters;
 //   each cluster V has one intra-cluster path τ_lm over its viewpoints, the shortest open
 //     Hamiltonian path found by the engine (a closed ATSP with a free dummy node), computed
-//     once per planning call: it is entered at its first viewpoint q_l and left at its last
-//     q_m (the thesis recomputes τ_lm per entry point; one path per cluster keeps the
-//     matrix static, so one maxATSP solve per insertion);
+//     once per planning call (or kept from an earlier call, IntraPathCache): it is entered at its
+//     first viewpoint q_l and left at its last q_m (the thesis recomputes τ_lm per entry point; one
+//     path per cluster keeps the matrix static, so one maxATSP solve per insertion);
 //   d(τ_kl): the straight-line distance from U's exit to V's entry, or a caller's distance
 //     (PlannerOptions::travel_distance, e.g. the low-level planner's roadmap), d(τ_lm): the intra
 //     path's length;
@@ -32,6 +32,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "components/tsga/atsp.hpp"
@@ -54,6 +55,53 @@ struct PlanRobot {
   double lambda_ic_per_m = 0.01;  // intra-cluster penalty
 };
 
+// A cluster's intra-cluster path τ_lm: its viewpoints in visiting order and its length.
+struct IntraPath {
+  std::vector<Eigen::Vector3d> viewpoints;
+  std::vector<uint32_t> indices;  // of the viewpoints in the cluster's list
+  double length_m = 0;
+};
+
+// Intra-cluster paths kept from one planning call to the next: a cluster whose viewpoints
+// are the same as before (positions and order, bit for bit) gets the path found then, which
+// is the path the engine would find again (it is deterministic for a matrix, a seed and an
+// iteration budget; both are part of the key). The ISE extractor re-sends every cluster at
+// each map update and most of them have not changed; the powerplant's largest ones hold
+// hundreds of viewpoints. A path not asked for during a generation (new_generation(), one
+// per planning call of the caller) is dropped at the end of the next one. Not thread safe.
+class IntraPathCache {
+ public:
+  struct Stats {
+    uint64_t hits = 0;
+    uint64_t misses = 0;
+    double solve_ms = 0;  // spent finding the paths of the misses
+  };
+  // the path of these viewpoints, or null
+  const IntraPath* find(const std::vector<Eigen::Vector3d>& viewpoints, int iterations,
+                        uint64_t seed);
+  void insert(const std::vector<Eigen::Vector3d>& viewpoints, int iterations, uint64_t seed,
+              IntraPath path, double solve_ms);
+  void new_generation();
+  const Stats& stats() const { return stats_; }
+  size_t size() const { return current_.size() + previous_.size(); }
+
+ private:
+  struct Entry {
+    std::vector<Eigen::Vector3d> viewpoints;
+    int iterations = 0;
+    uint64_t seed = 0;
+    IntraPath path;
+  };
+  using Map = std::unordered_multimap<uint64_t, Entry>;
+  static uint64_t key(const std::vector<Eigen::Vector3d>& viewpoints, int iterations,
+                      uint64_t seed);
+  static Map::iterator match(Map& map, uint64_t k, const std::vector<Eigen::Vector3d>& viewpoints,
+                             int iterations, uint64_t seed);
+  Map current_;   // asked for in this generation
+  Map previous_;  // asked for in the one before, not yet in this one
+  Stats stats_;
+};
+
 struct PlannerOptions {
   int insertion_iterations = 20;  // ILS kicks per insertion evaluation
   int final_iterations = 300;     // ILS kicks for each robot's final path
@@ -62,6 +110,9 @@ struct PlannerOptions {
   // the low-level planner's roadmap distance. Non-finite = unreachable (the arc's f is 0).
   // Called O(n²) times per maxATSP solve: memoise an expensive one.
   std::function<double(const Eigen::Vector3d& from, const Eigen::Vector3d& to)> travel_distance;
+  // intra-cluster paths kept across calls (null: found again at every call); the caller
+  // owns it and starts a generation per planning call
+  IntraPathCache* intra_paths = nullptr;
 };
 
 // A viewpoint of a plan: its cluster and its index in the cluster's viewpoint list.
