@@ -62,6 +62,7 @@ LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
   p.optional("backoff_step_m", c.backoff_step_m, {0.01, 10});
   p.optional("backoff_min_m", c.backoff_min_m, {0.01, 100});
   p.optional("goal_nudge_max_m", c.goal_nudge_max_m, {0, 10});
+  p.optional("stuck_backoff_m", c.stuck_backoff_m, {0, 100});
   p.optional("path_recheck_horizon_m", c.path_recheck_horizon_m, {0, 1000});
   if (c.backoff_min_m > c.backoff_max_m) p.report("backoff_min_m", "must not exceed backoff_max_m");
   p.optional("ground_nominal_speed_mps", c.ground_nominal_speed_mps, {0.01, 100});
@@ -302,6 +303,7 @@ void LowLevelPlanner::plan_to_goal() {
         (void)path_pub_.publish(std::move(*loan));
       }
       local_path_ = r.path;
+      stuck_.reset();
       ++stats_.paths;
       path_sent_ = true;
       map_unchecked_ = false;  // planned on the newest snapshot
@@ -323,20 +325,9 @@ void LowLevelPlanner::plan_to_goal() {
     log_once("start", r.message +
                           " (backing off to the nearest free pose; further such "
                           "cases are counted)");
-    if (auto escape = escape_pose(request.start)) {
-      if (auto loan = path_pub_.loan()) {
-        (*loan)->plan_id = ++local_path_id_;
-        (*loan)->waypoints = {request.start, *escape};
-        (void)path_pub_.publish(std::move(*loan));
-      }
-      local_path_ = {request.start, *escape};
-      backing_off_ = escape;
-      backoff_start_ = request.start.position;
+    if (auto escape = escape_pose(request.start, config_.backoff_min_m)) {
+      send_backoff(request.start, *escape);
       ++stats_.backoffs;
-      path_sent_ = true;
-      stopped_ = false;
-      mode_ = Mode::kMoving;
-      send_maneuver(msg::Maneuver::Kind::kResume, {}, 0);
       return;
     }
     request_replan(ReplanReason::kInfeasible, 0, r.message + ", no free pose near");
@@ -354,6 +345,7 @@ void LowLevelPlanner::plan_to_goal() {
   }
   log_once(std::string(to_string(r.status)),
            r.message + " (that viewpoint is skipped; further such failures are counted)");
+  if (r.status == PlanStatus::kNoPath && back_off_if_stuck(request.start)) return;
   ++tour_->next;
   ++tour_->skipped;
   ++stats_.goals_skipped;
@@ -376,7 +368,51 @@ std::optional<msg::Waypoint> LowLevelPlanner::nudged_goal(const msg::Waypoint& g
   return std::nullopt;
 }
 
-std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& start) const {
+void LowLevelPlanner::send_backoff(const msg::Waypoint& start, const msg::Waypoint& escape) {
+  if (auto loan = path_pub_.loan()) {
+    (*loan)->plan_id = ++local_path_id_;
+    (*loan)->waypoints = {start, escape};
+    (void)path_pub_.publish(std::move(*loan));
+  }
+  local_path_ = {start, escape};
+  backing_off_ = escape;
+  backoff_start_ = start.position;
+  path_sent_ = true;
+  stopped_ = false;
+  mode_ = Mode::kMoving;
+  send_maneuver(msg::Maneuver::Kind::kResume, {}, 0);
+}
+
+bool LowLevelPlanner::back_off_if_stuck(const msg::Waypoint& start) {
+  if (config_.stuck_backoff_m <= 0) return false;
+  const Eigen::Vector3d at = msg::to_eigen(start.position);
+  // one place: within backoff_max_m of the first failure (each round backs off farther)
+  if (!stuck_ || (at - stuck_->at).norm() > config_.backoff_max_m) stuck_ = StuckSpot{.at = at};
+  if (++stuck_->failures < config_.max_consecutive_failures) return false;
+  // a round of failures from here: drop the roadmap (its validity marks and components
+  // are what the failed queries grew) and leave, farther at each round
+  stuck_->failures = 0;
+  ++stuck_->rounds;
+  planner_->clear_roadmap();
+  const double from_m = config_.stuck_backoff_m * stuck_->rounds;
+  if (from_m > config_.backoff_max_m + 1e-9) return false;
+  const auto escape = escape_pose(start, from_m);
+  if (!escape) return false;
+  char what[160];
+  std::snprintf(what, sizeof what,
+                "%d queries without a path from (%.2f, %.2f, %.2f): backing off >= %.1f m "
+                "(further such cases are counted)",
+                config_.max_consecutive_failures, at.x(), at.y(), at.z(), from_m);
+  log_once("stuck", what);
+  send_backoff(start, *escape);
+  ++stats_.stuck_backoffs;
+  // the goal it could not reach stays the goal: planned again from the escape pose
+  consecutive_failures_ = 0;
+  return true;
+}
+
+std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& start,
+                                                          double from_m) const {
   constexpr int kDirections = 16;
   const bool multirotor = checks_.obstacle.kind == RobotKind::kMultirotor;
   // the map holds no teammate (their depth is masked): keep clear of them here
@@ -394,8 +430,7 @@ std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& s
   };
   // from backoff_min_m: an escape pose within the tracker's position tolerance would be
   // "reached" without a move, and the robot would back off on the spot forever
-  for (double r = config_.backoff_min_m; r <= config_.backoff_max_m + 1e-9;
-       r += config_.backoff_step_m) {
+  for (double r = from_m; r <= config_.backoff_max_m + 1e-9; r += config_.backoff_step_m) {
     if (multirotor) {
       msg::Waypoint up = start;
       up.position.z += r;
@@ -640,7 +675,8 @@ void LowLevelPlanner::on_deactivate() {
   SCANCREW_LOG_INFO(
       "%s: %llu tours, %llu goals reached, %llu skipped, %llu paths (%.1f ms mean, %.1f max), "
       "%llu replanning requests, %llu emergency stops, %llu back-offs, %llu traffic holds, %llu "
-      "redundancies, %.1f m travelled, %llu goals nudged, %llu paths blocked by a newer map",
+      "redundancies, %.1f m travelled, %llu goals nudged, %llu paths blocked by a newer map, "
+      "%llu back-offs from a place with no path out",
       qualified_name().c_str(), static_cast<unsigned long long>(stats_.tours),
       static_cast<unsigned long long>(stats_.goals_reached),
       static_cast<unsigned long long>(stats_.goals_skipped),
@@ -654,7 +690,8 @@ void LowLevelPlanner::on_deactivate() {
       static_cast<unsigned long long>(stats_.traffic_holds),
       static_cast<unsigned long long>(stats_.redundancies), stats_.path_length_m,
       static_cast<unsigned long long>(stats_.goals_nudged),
-      static_cast<unsigned long long>(stats_.paths_blocked));
+      static_cast<unsigned long long>(stats_.paths_blocked),
+      static_cast<unsigned long long>(stats_.stuck_backoffs));
 }
 
 SCANCREW_REGISTER_COMPONENT(LowLevelPlanner, "low_level_planner")

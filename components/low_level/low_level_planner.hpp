@@ -84,6 +84,16 @@ class LowLevelPlanner final : public Component {
     // the ellipse) differ at the edges, and a skipped viewpoint came back in every new plan.
     // 0: skip at once.
     double goal_nudge_max_m = 0.3;
+    // stuck_backoff_m > 0 (not in the thesis): after max_consecutive_failures queries in a
+    // row without a path (no_path) from one place (within backoff_max_m of where the run
+    // of failures began), whatever the goals and tours, the roadmap is dropped and the
+    // robot backs off (escape_pose) at least stuck_backoff_m times the number of such
+    // rounds there, up to backoff_max_m; then it plans to the same goal again. A path
+    // found ends the count. A UAV pressed in
+    // under an overhang failed every query from one spot for 120 s simulated (powerplant
+    // trio, docs/missions.md), a second of planning each. 0: never (ask for a new plan, as
+    // after any max_consecutive_failures failures).
+    double stuck_backoff_m = 0.0;
     // at each new map snapshot, the local path ahead of the robot is checked again out to
     // this arc length (path_recheck.hpp); blocked: planned again from where the robot is.
     // About the camera's range: farther, the map changes again before the robot gets there.
@@ -111,10 +121,11 @@ class LowLevelPlanner final : public Component {
     uint64_t tours = 0;    // tours taken
     uint64_t replans = 0;  // requests sent, all reasons
     uint64_t emergency_stops = 0;
-    uint64_t backoffs = 0;       // starts in collision left by backing off
-    uint64_t goals_nudged = 0;   // goals in collision moved to a free pose near them
-    uint64_t paths_blocked = 0;  // local paths a newer map blocked ahead: planned again
-    uint64_t traffic_holds = 0;  // stop or step aside maneuvers
+    uint64_t backoffs = 0;        // starts in collision left by backing off
+    uint64_t stuck_backoffs = 0;  // backed off from a spot with no path out (stuck_backoff_m)
+    uint64_t goals_nudged = 0;    // goals in collision moved to a free pose near them
+    uint64_t paths_blocked = 0;   // local paths a newer map blocked ahead: planned again
+    uint64_t traffic_holds = 0;   // stop or step aside maneuvers
     uint64_t redundancies = 0;
     double plan_ms_sum = 0, plan_ms_max = 0;
     double path_length_m = 0;  // travelled
@@ -141,10 +152,14 @@ class LowLevelPlanner final : public Component {
   // Steps of one tick, in the order of Algorithms 1, 3 and 6.
   bool follow_checks();  // redundancy, utility: true when a new plan was asked for
   void plan_to_goal();
-  // The nearest free pose around the robot (in a fixed order), if any.
-  // The nearest free pose clear of the teammates on rings backoff_min_m, + step, ... up to
-  // backoff_max_m.
-  std::optional<msg::Waypoint> escape_pose(const msg::Waypoint& start) const;
+  // stuck_backoff_m: counts a no_path failure from `start`; true when the robot backs off
+  // because of it (the path to the escape pose is out).
+  bool back_off_if_stuck(const msg::Waypoint& start);
+  // Sends the two-waypoint path from start to the free pose `escape` (a back-off).
+  void send_backoff(const msg::Waypoint& start, const msg::Waypoint& escape);
+  // The nearest free pose around the robot (in a fixed order), if any: clear of the
+  // teammates, on rings from_m, + backoff_step_m, ... up to backoff_max_m.
+  std::optional<msg::Waypoint> escape_pose(const msg::Waypoint& start, double from_m) const;
   // The nearest free pose to `goal`, same yaw, within goal_nudge_max_m.
   std::optional<msg::Waypoint> nudged_goal(const msg::Waypoint& goal) const;
   void watch_motion();  // goal reached, obstacle, traffic
@@ -185,6 +200,13 @@ class LowLevelPlanner final : public Component {
   std::optional<msg::Waypoint> backing_off_;  // the free pose it is backing off to
   msg::Vec3 backoff_start_;                   // from where
   int consecutive_failures_ = 0;
+  // stuck_backoff_m: the run of no_path failures from one spot, and the rounds there
+  struct StuckSpot {
+    Eigen::Vector3d at = Eigen::Vector3d::Zero();
+    int failures = 0;
+    int rounds = 0;
+  };
+  std::optional<StuckSpot> stuck_;
   uint64_t local_path_id_ = 0;
   msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
   msg::Maneuver::Kind last_maneuver_ = msg::Maneuver::Kind::kResume;

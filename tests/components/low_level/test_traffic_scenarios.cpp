@@ -810,5 +810,48 @@ TEST(TrafficScenarios, ANewerMapBlocksThePathAndTheRobotPlansRoundTheBoxBeforeAn
       static_cast<unsigned long long>(s.emergency_stops), log.paths.size(), min_gap, o.ran_s);
 }
 
+TEST(TrafficScenarios, ARobotWithNoPathOutBacksOffFartherAtEachRoundThenGivesUp) {
+  // shut in a closet, its goals outside: once the walls are mapped every query fails
+  // (no_path). Six goals: a round is max_consecutive_failures (3) failed queries
+  std::vector<Pose4> outside;
+  for (int k = 0; k < 6; ++k) outside.push_back({4.0, -1.0 + 0.4 * k, 0, 0});
+  const std::vector<RobotSetup> robots = {{1, {0, 0, 0, 0}, outside}};
+  const std::string scene = scene_path("closet.yaml");
+  const std::string params =
+      "planner_time_limit_s: 0.05, backoff_max_m: 0.6, backoff_min_m: 0.2, "
+      "path_recheck_horizon_m: 0";
+  struct Run {
+    LowLevelPlanner::Stats stats;
+    double moved_m = 0;
+  };
+  const auto run = [&](const std::string& extra) {
+    Run out;
+    const Outcome o = run_scenario(scene, robots, 25.0, params + extra);
+    EXPECT_NE(o.probe, nullptr);
+    if (o.probe == nullptr || o.planners.empty()) return out;
+    out.stats = o.planners[0]->stats();
+    for (const PoseProbe::Frame& f : o.probe->frames)
+      out.moved_m = std::max(out.moved_m, f.poses[0].head<2>().norm());
+    EXPECT_EQ(o.contacts.robot_scene, 0u);
+    return out;
+  };
+  const Run without = run("");
+  const Run with = run(", stuck_backoff_m: 0.3");
+  EXPECT_EQ(without.stats.stuck_backoffs, 0u);
+  EXPECT_EQ(with.stats.goals_reached, 0u);
+  // rounds at >= 0.3 m and >= 0.6 m; a third (0.9 m) would pass backoff_max_m
+  EXPECT_EQ(with.stats.stuck_backoffs, 2u);
+  EXPECT_GE(with.moved_m, 0.3);
+  std::printf(
+      "[figures] stuck in a closet: without stuck_backoff_m %llu failed queries, %llu goals "
+      "skipped, moved %.2f m; with 0.3 m: %llu failed queries, %llu back-offs from the place, "
+      "%llu goals skipped, moved %.2f m\n",
+      static_cast<unsigned long long>(without.stats.plan_failures),
+      static_cast<unsigned long long>(without.stats.goals_skipped), without.moved_m,
+      static_cast<unsigned long long>(with.stats.plan_failures),
+      static_cast<unsigned long long>(with.stats.stuck_backoffs),
+      static_cast<unsigned long long>(with.stats.goals_skipped), with.moved_m);
+}
+
 }  // namespace
 }  // namespace scancrew::low_level
