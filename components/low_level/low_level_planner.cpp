@@ -294,7 +294,10 @@ void LowLevelPlanner::plan_to_goal() {
   request.pose_stamp_ns = pose_->header.stamp_ns;
   const PlanResult r = planner_->plan(request);
   stats_.plan_ms_sum += r.stats.total_ms;
-  stats_.plan_ms_max = std::max(stats_.plan_ms_max, r.stats.total_ms);
+  if (r.stats.total_ms > stats_.plan_ms_max) {
+    stats_.plan_ms_max = r.stats.total_ms;
+    stats_.slowest_plan = r.stats;
+  }
   switch (r.status) {
     case PlanStatus::kOk:
       if (auto loan = path_pub_.loan()) {
@@ -673,7 +676,8 @@ void LowLevelPlanner::log_once(const std::string& key, const std::string& messag
 
 void LowLevelPlanner::on_deactivate() {
   SCANCREW_LOG_INFO(
-      "%s: %llu tours, %llu goals reached, %llu skipped, %llu paths (%.1f ms mean, %.1f max), "
+      "%s: %llu tours, %llu goals reached, %llu skipped, %llu paths (%.1f ms mean, %.1f max: "
+      "LazyPRM* %.1f ms in %zu searches%s, shortcutting %.1f ms), "
       "%llu replanning requests, %llu emergency stops, %llu back-offs, %llu traffic holds, %llu "
       "redundancies, %.1f m travelled, %llu goals nudged, %llu paths blocked by a newer map, "
       "%llu back-offs from a place with no path out",
@@ -684,7 +688,9 @@ void LowLevelPlanner::on_deactivate() {
       stats_.paths + stats_.plan_failures > 0
           ? stats_.plan_ms_sum / static_cast<double>(stats_.paths + stats_.plan_failures)
           : 0.0,
-      stats_.plan_ms_max, static_cast<unsigned long long>(stats_.replans),
+      stats_.plan_ms_max, stats_.slowest_plan.solve_ms, stats_.slowest_plan.searches,
+      stats_.slowest_plan.search_cut ? " cut by the time limit" : "",
+      stats_.slowest_plan.simplify_ms, static_cast<unsigned long long>(stats_.replans),
       static_cast<unsigned long long>(stats_.emergency_stops),
       static_cast<unsigned long long>(stats_.backoffs),
       static_cast<unsigned long long>(stats_.traffic_holds),

@@ -128,6 +128,7 @@ class LowLevelPlanner final : public Component {
     uint64_t traffic_holds = 0;   // stop or step aside maneuvers
     uint64_t redundancies = 0;
     double plan_ms_sum = 0, plan_ms_max = 0;
+    PlanStats slowest_plan;    // where the slowest query's time went
     double path_length_m = 0;  // travelled
   };
   const Stats& stats() const { return stats_; }

@@ -70,6 +70,8 @@ struct PlanRequest {
 struct PlanStats {
   double total_ms = 0;
   double solve_ms = 0;          // LazyPRM*
+  size_t searches = 0;          // LazyPRM*'s A* searches over the roadmap (reusable_lazy_prm.hpp)
+  bool search_cut = false;      // the time limit stopped the repair of a path found
   double simplify_ms = 0;       // shortcutting and the final check
   size_t roadmap_vertices = 0;  // after the query
   size_t roadmap_edges = 0;
