@@ -12,10 +12,8 @@ cmake --preset "$kind" >/dev/null
 # (label "sanitize_asan").
 targets=(test_executors test_no_allocation test_trace test_interfaces)
 [ "$kind" = asan ] && targets+=(test_tsdf test_tsdf_mesh test_tsdf_patch test_ise test_tsga_solver
-  test_tsga_planner test_low_level_checks test_tracker_law test_dds_link_model)
-# test_low_level_planner is left out for now: LeakSanitizer reports OMPL states
-# (SE2StateSpace::allocState) never freed after LazyPRM* queries; not yet traced to OMPL or
-# to our roadmap resets (docs/low_level_planner.md)
+  test_tsga_planner test_low_level_planner test_low_level_checks test_tracker_law
+  test_dds_link_model)
 cmake --build --preset "$kind" --target "${targets[@]}"
 if [ "$kind" = tsan ]; then
   # TSan of g++ 12 cannot map its shadow memory with the 32-bit mmap randomisation of

@@ -20,6 +20,10 @@ namespace {
 constexpr unsigned kMilestonesBeforeNextSearch = 5;
 }  // namespace
 
+ReusableLazyPrmStar::~ReusableLazyPrmStar() {
+  freeMemory();
+}
+
 void ReusableLazyPrmStar::add_checked_milestone(const State* s) {
   const Vertex v = addMilestone(si_->cloneState(s));
   vertexValidityProperty_[v] = VALIDITY_TRUE;

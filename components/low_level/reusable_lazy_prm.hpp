@@ -37,6 +37,11 @@ class ReusableLazyPrmStar : public ompl::geometric::LazyPRMstar {
 
   explicit ReusableLazyPrmStar(const ompl::base::SpaceInformationPtr& si)
       : ompl::geometric::LazyPRMstar(si) {}
+  // Frees the roadmap's states: OMPL 1.5's ~LazyPRM() does not (only clear() does), which
+  // LeakSanitizer reported as states allocated in LazyPRM* queries and never freed.
+  ~ReusableLazyPrmStar() override;
+  ReusableLazyPrmStar(const ReusableLazyPrmStar&) = delete;
+  ReusableLazyPrmStar& operator=(const ReusableLazyPrmStar&) = delete;
 
   size_t vertex_count() const { return boost::num_vertices(g_); }
   size_t edge_count() const { return boost::num_edges(g_); }
