@@ -1,11 +1,14 @@
 #include "cli/eval_command.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
+#include "eval/missed_points.hpp"
 #include "eval/ply_mesh.hpp"
 #include "eval/reconstruction_error.hpp"
 #include "sim/mesh_io.hpp"
@@ -18,6 +21,47 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+constexpr std::array<eval::Facing, eval::kFacings> kFacingOrder{
+    eval::Facing::kUp, eval::Facing::kSide, eval::Facing::kDown};
+constexpr std::array<eval::MissBand, eval::kMissBands> kBandOrder{
+    eval::MissBand::kNear, eval::MissBand::kOff, eval::MissBand::kHole};
+
+double percent(size_t part, size_t whole) {
+  return whole == 0 ? 0.0 : 100.0 * static_cast<double>(part) / static_cast<double>(whole);
+}
+
+// The missed points by distance to the mesh and by facing, in % of the missed points.
+void print_miss_profile(const eval::MissProfile& m, size_t gt_points) {
+  std::printf(
+      "missed %zu points (%.2f %% of the ground truth), in %% of them, by the distance to the "
+      "mesh\n(near: the mesh passes within 2 e_max = %.2f m, a surface placed off or a "
+      "neighbouring one; off: within 4 e_max; hole: no mesh within 4 e_max) and the way they "
+      "face\n(up / down: normal within 45 deg of +z / -z):\n",
+      m.points, percent(m.points, gt_points), 2 * m.e_max_m);
+  std::printf("  %-6s %7s %7s %7s %7s\n", "", "near", "off", "hole", "all");
+  for (const eval::Facing f : kFacingOrder) {
+    std::printf("  %-6s", eval::to_string(f));
+    for (const eval::MissBand b : kBandOrder)
+      std::printf(" %7.1f", percent(m.count(f, b), m.points));
+    std::printf(" %7.1f\n", percent(m.facing_total(f), m.points));
+  }
+  std::printf("  %-6s", "all");
+  for (const eval::MissBand b : kBandOrder)
+    std::printf(" %7.1f", percent(m.band_total(b), m.points));
+  std::printf(" %7.1f\n", m.points == 0 ? 0.0 : 100.0);
+}
+
+nlohmann::ordered_json miss_profile_json(const eval::MissProfile& m) {
+  nlohmann::ordered_json out;
+  out["points"] = m.points;
+  for (const eval::Facing f : kFacingOrder) {
+    nlohmann::ordered_json row;
+    for (const eval::MissBand b : kBandOrder) row[eval::to_string(b)] = m.count(f, b);
+    out[eval::to_string(f)] = row;
+  }
+  return out;
 }
 
 }  // namespace
@@ -60,6 +104,7 @@ int run_eval(const EvalOptions& o) {
     std::fprintf(stderr, "scancrew eval: %s: %s\n", o.mesh_path.c_str(), r.error().c_str());
     return 2;
   }
+  std::optional<eval::MissProfile> misses;
   if (!o.missed_path.empty()) {
     // the ground-truth points no part of the mesh came within e_max of (NaN error)
     std::vector<std::array<float, 3>> points, normals;
@@ -73,6 +118,12 @@ int run_eval(const EvalOptions& o) {
       std::fprintf(stderr, "scancrew eval: %s\n", w.error().c_str());
       return 2;
     }
+    auto profile = eval::profile_misses(*mesh, points, normals, r->e_max_m);
+    if (!profile) {
+      std::fprintf(stderr, "scancrew eval: %s\n", profile.error().c_str());
+      return 2;
+    }
+    misses = *profile;
   }
 
   if (o.json) {
@@ -94,6 +145,7 @@ int run_eval(const EvalOptions& o) {
     out["density_per_m2"] = o.density_per_m2;
     out["seed"] = o.seed;
     out["sampling_seconds"] = sampling_s;
+    if (misses) out["missed"] = miss_profile_json(*misses);
     std::printf("%s\n", out.dump().c_str());
     return 0;
   }
@@ -111,6 +163,7 @@ int run_eval(const EvalOptions& o) {
   else
     std::printf("error along the normals: mean %+.4f m, std %.4f m, RMSE %.4f m (%.2f s)\n",
                 r->mean_error_m, r->std_error_m, r->rmse_m, eval_s);
+  if (misses) print_miss_profile(*misses, r->gt_points);
   return 0;
 }
 

@@ -50,14 +50,15 @@ std::string format_vec(double x, double y, double z) {
   return text;
 }
 
-Result<void, std::string> check_inputs(const sim::TriangleMesh& mesh,
-                                       std::span<const std::array<float, 3>> points,
-                                       std::span<const std::array<float, 3>> normals,
-                                       const ReconstructionErrorConfig& config) {
-  if (!(config.e_max_m > 0) || !std::isfinite(config.e_max_m))
-    return make_unexpected("e_max must be positive and finite, not " +
-                           std::to_string(config.e_max_m) + " m");
-  if (points.empty()) return make_unexpected(std::string("no ground-truth points"));
+}  // namespace
+
+Result<void, std::string> check_eval_inputs(const sim::TriangleMesh& mesh,
+                                            std::span<const std::array<float, 3>> points,
+                                            std::span<const std::array<float, 3>> normals,
+                                            double e_max_m) {
+  if (!(e_max_m > 0) || !std::isfinite(e_max_m))
+    return make_unexpected("e_max must be positive and finite, not " + std::to_string(e_max_m) +
+                           " m");
   if (normals.size() != points.size())
     return make_unexpected(std::to_string(points.size()) + " ground-truth points but " +
                            std::to_string(normals.size()) + " normals");
@@ -85,8 +86,6 @@ Result<void, std::string> check_inputs(const sim::TriangleMesh& mesh,
   return {};
 }
 
-}  // namespace
-
 double max_error_for_voxel(double voxel_size_m) {
   return voxel_size_m * std::sqrt(3.0) / 2;
 }
@@ -106,7 +105,8 @@ std::string_view to_string(EvalStatus status) {
 Result<ReconstructionError, std::string> reconstruction_error(
     const sim::TriangleMesh& mesh, std::span<const std::array<float, 3>> points,
     std::span<const std::array<float, 3>> normals, const ReconstructionErrorConfig& config) {
-  if (auto ok = check_inputs(mesh, points, normals, config); !ok)
+  if (points.empty()) return make_unexpected(std::string("no ground-truth points"));
+  if (auto ok = check_eval_inputs(mesh, points, normals, config.e_max_m); !ok)
     return make_unexpected(ok.error());
   auto grid = TriangleGrid::build(mesh, config.e_max_m);
   if (!grid) return make_unexpected(grid.error());

@@ -60,6 +60,13 @@ struct ReconstructionError {
   std::vector<float> point_error_m;
 };
 
+// The input checks of reconstruction_error() but the one for no points (profile_misses()
+// takes an empty set): e_max, counts, finite points and non-zero normals, the mesh.
+Result<void, std::string> check_eval_inputs(const sim::TriangleMesh& mesh,
+                                            std::span<const std::array<float, 3>> points,
+                                            std::span<const std::array<float, 3>> normals,
+                                            double e_max_m);
+
 // points: world frame, m; normals: one per point, outward (they are normalised here). Fails,
 // naming the culprit, on: e_max not positive and finite, no points, points and normals of
 // different counts, a point or normal not finite or a zero normal, a mesh vertex not finite,
