@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <unordered_set>
 
 namespace scancrew::low_level {
@@ -22,6 +24,7 @@ constexpr unsigned kMilestonesBeforeNextSearch = 5;
 
 ReusableLazyPrmStar::~ReusableLazyPrmStar() {
   freeMemory();
+  if (nn_) nn_->clear();  // its vertices are gone
 }
 
 void ReusableLazyPrmStar::add_checked_milestone(const State* s) {
@@ -45,17 +48,20 @@ ob::PlannerStatus ReusableLazyPrmStar::solve(const PlannerTerminationCondition& 
 
   bestCost_ = opt_->infiniteCost();
   ob::PathPtr best;
+  bool found = false;  // a path was found (best: the cheapest, if any was below infinity)
   bool optimal = false;
   unsigned added_since_search = 0;
   std::pair<size_t, size_t> ends;  // indices into startM_, goalM_
-  State* work = si_->allocState();
+  // freed on every way out: constructSolution() throws when A* misses a connected goal
+  const std::unique_ptr<State, std::function<void(State*)>> work(
+      si_->allocState(), [this](State* s) { si_->freeState(s); });
   while (!ptc) {
     ++iterations_;
-    sampler_->sampleUniform(work);
-    const Vertex added = addMilestone(si_->cloneState(work));
+    sampler_->sampleUniform(work.get());
+    const Vertex added = addMilestone(si_->cloneState(work.get()));
     const long component = solutionComponent(&ends);
     if (component == -1) continue;
-    if (best != nullptr) {
+    if (found) {
       // optimizing: search again once the solution's component has grown a little
       if (static_cast<long>(vertexComponentProperty_[added]) != component) continue;
       if (++added_since_search < kMilestonesBeforeNextSearch) continue;
@@ -77,8 +83,9 @@ ob::PlannerStatus ReusableLazyPrmStar::solve(const PlannerTerminationCondition& 
       path = constructSolution(start, goal_vertex);
     }
     if (path == nullptr) continue;
+    found = true;
     const ob::Cost cost = path->cost(opt_);
-    if (best == nullptr || opt_->isCostBetterThan(cost, bestCost_)) {
+    if (opt_->isCostBetterThan(cost, bestCost_)) {
       best = path;
       bestCost_ = cost;
     }
@@ -89,7 +96,6 @@ ob::PlannerStatus ReusableLazyPrmStar::solve(const PlannerTerminationCondition& 
       break;
     }
   }
-  si_->freeState(work);
 
   if (best == nullptr) return ob::PlannerStatus::TIMEOUT;
   ob::PlannerSolution solution(best);

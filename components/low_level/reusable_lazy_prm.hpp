@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 #include <boost/range/iterator_range.hpp>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <queue>

@@ -15,6 +15,7 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
+#include <limits>
 #include <memory>
 #include <mutex>
 
@@ -53,7 +54,11 @@ struct Plane {
     planner = std::make_shared<ReusableLazyPrmStar>(si);
   }
 
-  ob::ProblemDefinitionPtr query(double x0, double y0, double x1, double y1) {
+  // cost_threshold_m: a path this short or shorter ends the search; +inf (the low-level
+  // planner's path_cost_factor 0): the first path found
+  ob::ProblemDefinitionPtr query(
+      double x0, double y0, double x1, double y1,
+      double cost_threshold_m = std::numeric_limits<double>::infinity()) {
     ob::ScopedState<> start(space), goal(space);
     start[0] = x0;
     start[1] = y0;
@@ -61,9 +66,8 @@ struct Plane {
     goal[1] = y1;
     auto pdef = std::make_shared<ob::ProblemDefinition>(si);
     pdef->setStartAndGoalStates(start, goal);
-    // the first path found is enough (the low-level planner's path_cost_factor 0)
     auto objective = std::make_shared<ob::PathLengthOptimizationObjective>(si);
-    objective->setCostThreshold(objective->infiniteCost());
+    objective->setCostThreshold(ob::Cost(cost_threshold_m));
     pdef->setOptimizationObjective(objective);
     planner->setProblemDefinition(pdef);
     return pdef;
@@ -130,6 +134,24 @@ TEST(ReusableLazyPrmStar, AClearLineIsFoundInOneSearch) {
   EXPECT_EQ(p.last_solve().searches, 1u);
   EXPECT_FALSE(p.last_solve().cut_in_repair);
   EXPECT_TRUE(pdef->getSolutionPath()->as<og::PathGeometric>()->check());
+}
+
+TEST(ReusableLazyPrmStar, WhileOptimizingTheConditionEndsTheSolveWithTheBestPathSoFar) {
+  Plane plane;
+  // 8 m apart: a 1 m threshold is never met, so the solve keeps growing the roadmap and
+  // searching again (each time 5 milestones have joined the path's component) until the
+  // condition fires
+  const ob::ProblemDefinitionPtr pdef = plane.query(1, 9.5, 9, 9.5, 1.0);
+  plane.grid_roadmap();
+  const ReusableLazyPrmStar& p = *plane.planner;
+  const ob::PlannerStatus status = plane.planner->solve(
+      ob::PlannerTerminationCondition([&p] { return p.last_solve().searches >= 3; }));
+  ASSERT_EQ(status, ob::PlannerStatus::EXACT_SOLUTION);
+  EXPECT_GE(p.last_solve().searches, 3U);
+  EXPECT_FALSE(pdef->hasOptimizedSolution());
+  const auto& path = *pdef->getSolutionPath()->as<og::PathGeometric>();
+  EXPECT_TRUE(path.check());
+  EXPECT_GE(path.length(), 8.0 - 1e-9);
 }
 
 }  // namespace
