@@ -251,13 +251,13 @@ bool PathTracker::reverse_to(const Eigen::Isometry3d& T_world_body, const msg::W
 
 void PathTracker::steer(const Eigen::Isometry3d& T_world_body, const Eigen::Vector3d& target_m,
                         double target_yaw_rad, const msg::Waypoint& goal, bool may_reverse,
-                        msg::VelocityCommand& cmd) {
+                        bool final_pose, msg::VelocityCommand& cmd) {
   Eigen::Vector3d target = target_m;
   if (ground_) target.z() = T_world_body.translation().z();
   const LawOutput law = law_.compute(T_world_body, level_pose(target, target_yaw_rad));
   if (ground_) {
     const UnicycleCommand u =
-        to_unicycle(law, config_.ground, may_reverse && reverse_to(T_world_body, goal));
+        to_unicycle(law, config_.ground, may_reverse && reverse_to(T_world_body, goal), final_pose);
     cmd.linear_mps = {u.v_mps, 0.0, 0.0};
     cmd.yaw_rate_radps = u.omega_radps;
   } else {
@@ -302,7 +302,8 @@ void PathTracker::on_tick() {
         mode = Mode::kWaiting;
       } else {
         mode = Mode::kSteppingAside;
-        steer(T_world_body, msg::to_eigen(aside_.position), aside_.yaw_rad, aside_, true, cmd);
+        steer(T_world_body, msg::to_eigen(aside_.position), aside_.yaw_rad, aside_, true, true,
+              cmd);
       }
     } else if (!have_plan_ || !path_ok_) {
       mode = Mode::kIdle;
@@ -330,7 +331,7 @@ void PathTracker::on_tick() {
         // would turn it round, then forwards again (the 4-robot team stalled so for 300 s)
         const bool last_segment = target.next_index + 1 >= path_.size();
         steer(T_world_body, target.position_m, target.yaw_rad, look_ahead_.final_waypoint(),
-              last_segment, cmd);
+              last_segment, target.at_end, cmd);
       }
     }
   }

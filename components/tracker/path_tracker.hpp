@@ -113,9 +113,10 @@ class PathTracker final : public Component {
   Eigen::Isometry3d predicted_pose(int64_t now_ns) const;
   // Command towards a target pose; returns it in `cmd`. `goal` (the final waypoint, or the
   // aside point): with may_reverse (a straight way to it), a ground robot reaches one close
-  // behind it, with its yaw, backwards.
+  // behind it, with its yaw, backwards. `final_pose`: the target is the goal itself (a
+  // ground robot turns to its yaw once near), not a look-ahead point on the way.
   void steer(const Eigen::Isometry3d& T_world_body, const Eigen::Vector3d& target_m,
-             double target_yaw_rad, const msg::Waypoint& goal, bool may_reverse,
+             double target_yaw_rad, const msg::Waypoint& goal, bool may_reverse, bool final_pose,
              msg::VelocityCommand& cmd);
   bool reverse_to(const Eigen::Isometry3d& T_world_body, const msg::Waypoint& goal);
   // Position and yaw errors to a pose (horizontal for ground robots).

@@ -12,7 +12,8 @@ double clamp_abs(double x, double limit) {
 }
 }  // namespace
 
-UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& config, bool reverse) {
+UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& config, bool reverse,
+                            bool final_pose) {
   const double d = std::hypot(law.offset_body_m.x(), law.offset_body_m.y());
   double alpha = d > 1e-9 ? std::atan2(law.offset_body_m.y(), law.offset_body_m.x()) : 0.0;
   // reversing: the heading error of the robot's back
@@ -32,7 +33,7 @@ UnicycleCommand to_unicycle(const LawOutput& law, const GroundMappingConfig& con
   const double v_near = law.twist.linear_mps.x();
   const double omega_near = law.twist.angular_radps.z();
 
-  const double r = config.align_radius_m;
+  const double r = final_pose ? config.align_radius_m : 0.0;  // on the way: the far law
   const double w = r > 0 ? std::clamp(2.0 * (r - d) / r, 0.0, 1.0) : 0.0;
   UnicycleCommand cmd;
   cmd.v_mps = clamp_abs((1 - w) * v_far + w * v_near, config.max_speed_mps);

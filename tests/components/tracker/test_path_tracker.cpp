@@ -332,6 +332,25 @@ TEST(PathTracker, AGroundRobotReachesABackOffItsBackingArcPassesBy) {
   EXPECT_LT(1e-9 * static_cast<double>(r.tracker->done_stamp_ns()), 15.0);
 }
 
+// A path that doubles back at once: 0.26 m ahead and aside, then back past the start to the
+// goal 0.87 m behind (a path the low-level planner sent in the parking lot, single robot,
+// seed 5, shifted here). The look-ahead target 0.5 m along it lies on the second leg, 0.09
+// m square to the side of the robot; the robot stood there for 1400 s, turned to the
+// target's yaw and commanded to a standstill, while the projection stayed on the first leg.
+TEST(PathTracker, AGroundRobotFollowsAPathThatDoublesBackBesideIt) {
+  const Waypoint4 start{-2.018, -2.002, 0.0, 157.4};
+  const std::vector<Waypoint4> path{
+      {-2.000, -2.000, 0, 0}, {-1.918, -2.247, 0, 96.0}, {-2.660, -1.433, 0, 58.0}};
+  TrackerRun r =
+      run(launch_text("ground", start, 30.0, "{waypoints: " + list(path) + "}", "{}", "{}"));
+  ASSERT_NE(r.tracker, nullptr);
+  ASSERT_FALSE(r.log->poses.empty());
+  EXPECT_EQ(r.tracker->plans_done(), 1u);
+  EXPECT_LT(distance(r.log->poses.back(), path.back(), true), 0.1);
+  EXPECT_LT(yaw_error_deg(r.log->poses.back(), path.back()), 5.0);
+  EXPECT_LT(1e-9 * static_cast<double>(r.tracker->done_stamp_ns()), 20.0);
+}
+
 // A straight run along y = −2; a stop at 5 s, a resume at 10 s.
 TEST(PathTracker, AStopManeuverZeroesTheCommandAtOnceAndHoldsUntilResumed) {
   for (const std::string kind : {"ground", "multirotor"}) {

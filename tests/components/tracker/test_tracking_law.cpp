@@ -177,6 +177,22 @@ TEST(VelocityMapping, AUnicycleBesideItsGoalTurnsToTheGoalsYaw) {
   }
 }
 
+// A look-ahead point on the way, 9 cm square to the robot's left, with the robot's yaw: as a
+// final pose it is within the align radius and the robot only turns to its yaw (here: a
+// standstill); on the way (final_pose false) the robot turns towards the point, to drive
+// onto it.
+TEST(VelocityMapping, AUnicycleTurnsTowardsALookAheadPointBesideIt) {
+  TrackingLaw law;
+  const GroundMappingConfig gc;
+  const LawOutput beside = law.compute(pose(0, 0, 0, 0), pose(0, 0.09, 0, 0));
+  const UnicycleCommand at_goal = to_unicycle(beside, gc, false, true);
+  EXPECT_NEAR(at_goal.v_mps, 0.0, 1e-9);
+  EXPECT_NEAR(at_goal.omega_radps, 0.0, 1e-9);
+  const UnicycleCommand on_the_way = to_unicycle(beside, gc, false, false);
+  EXPECT_EQ(on_the_way.v_mps, 0.0);  // 90 degrees off: on the spot first
+  EXPECT_NEAR(on_the_way.omega_radps, gc.max_yaw_rate_radps, 1e-12);
+}
+
 TEST(VelocityMapping, AUnicycleReachesTargetsAllAroundAtTheirYaw) {
   const GroundMappingConfig gc;
   for (int dir = 0; dir < 8; ++dir) {
