@@ -64,6 +64,9 @@ LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
   p.optional("goal_nudge_max_m", c.goal_nudge_max_m, {0, 10});
   p.optional("stuck_backoff_m", c.stuck_backoff_m, {0, 100});
   p.optional("path_recheck_horizon_m", c.path_recheck_horizon_m, {0, 1000});
+  p.optional("stall_timeout_s", c.stall.timeout_s, {0, 1e6});
+  p.optional("stall_min_motion_m", c.stall.min_motion_m, {0.001, 100});
+  p.optional("stall_min_turn_deg", c.stall.min_turn_deg, {0.1, 360});
   if (c.backoff_min_m > c.backoff_max_m) p.report("backoff_min_m", "must not exceed backoff_max_m");
   p.optional("ground_nominal_speed_mps", c.ground_nominal_speed_mps, {0.01, 100});
   p.optional("multirotor_nominal_speed_mps", c.multirotor_nominal_speed_mps, {0.01, 100});
@@ -76,7 +79,7 @@ LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
 }
 
 LowLevelPlanner::LowLevelPlanner(ComponentContext context, Config config)
-    : Component(std::move(context)), config_(std::move(config)) {}
+    : Component(std::move(context)), config_(std::move(config)), stall_(config_.stall) {}
 
 LowLevelPlanner::~LowLevelPlanner() = default;
 
@@ -247,6 +250,7 @@ void LowLevelPlanner::tick() {
     if (!follow_checks()) plan_to_goal();
   } else {
     watch_motion();
+    watch_stall();
   }
   publish_state();
 }
@@ -307,6 +311,7 @@ void LowLevelPlanner::plan_to_goal() {
       }
       local_path_ = r.path;
       stuck_.reset();
+      stall_.reset();
       ++stats_.paths;
       path_sent_ = true;
       map_unchecked_ = false;  // planned on the newest snapshot
@@ -380,6 +385,7 @@ void LowLevelPlanner::send_backoff(const msg::Waypoint& start, const msg::Waypoi
   local_path_ = {start, escape};
   backing_off_ = escape;
   backoff_start_ = start.position;
+  stall_.reset();
   path_sent_ = true;
   stopped_ = false;
   mode_ = Mode::kMoving;
@@ -562,6 +568,47 @@ void LowLevelPlanner::watch_motion() {
                    "held " + std::to_string(static_cast<int>(d.held_s)) + " s");
 }
 
+void LowLevelPlanner::watch_stall() {
+  // only a robot that should be moving: a hold, a stop or a reached goal restarts the watch
+  if (mode_ != Mode::kMoving || stopped_ || !path_sent_ || !tour_ || tour_->done()) {
+    stall_.reset();
+    return;
+  }
+  const msg::Vec3& p = pose_->T_world_body.position;
+  if (!stall_.update(msg::to_eigen(p), yaw_of(pose_->T_world_body.orientation), now_s())) return;
+  ++stats_.stalls;
+  path_sent_ = false;  // the next tick plans to the goal from here
+  if (backing_off_) {
+    backing_off_.reset();  // give the back-off up: the goal from where the robot is
+    log_once("stall_backoff",
+             "stood still for stall_timeout_s backing off: planned to the goal "
+             "from here (further such cases are counted)");
+    return;
+  }
+  const std::pair<uint64_t, size_t> goal{tour_->plan_id, tour_->next};
+  const msg::Vec3& g = tour_->goal().position;
+  char what[200];
+  if (stall_goal_ != goal) {
+    stall_goal_ = goal;
+    std::snprintf(what, sizeof what,
+                  "stood still at (%.2f, %.2f, %.2f) for %.0f s on a path to (%.2f, %.2f, %.2f): "
+                  "planned again from here (further such cases are counted)",
+                  p.x, p.y, p.z, config_.stall.timeout_s, g.x, g.y, g.z);
+    log_once("stall", what);
+    return;
+  }
+  stall_goal_.reset();
+  std::snprintf(what, sizeof what,
+                "stood still again on a path to (%.2f, %.2f, %.2f): that viewpoint is skipped "
+                "(further such cases are counted)",
+                g.x, g.y, g.z);
+  log_once("stall_skip", what);
+  ++tour_->next;
+  ++tour_->skipped;
+  ++stats_.goals_skipped;
+  if (tour_->done()) request_replan(ReplanReason::kInfeasible, 0, "stood still at the last goal");
+}
+
 // The traffic policy's decision for this robot on `path` (its remaining local path; empty
 // for a robot holding its place) against every teammate's broadcast state.
 TrafficDecision LowLevelPlanner::traffic_decision(std::vector<Eigen::Vector3d> path) {
@@ -680,7 +727,7 @@ void LowLevelPlanner::on_deactivate() {
       "LazyPRM* %.1f ms in %zu searches%s, shortcutting %.1f ms), "
       "%llu replanning requests, %llu emergency stops, %llu back-offs, %llu traffic holds, %llu "
       "redundancies, %.1f m travelled, %llu goals nudged, %llu paths blocked by a newer map, "
-      "%llu back-offs from a place with no path out",
+      "%llu back-offs from a place with no path out, %llu stalls",
       qualified_name().c_str(), static_cast<unsigned long long>(stats_.tours),
       static_cast<unsigned long long>(stats_.goals_reached),
       static_cast<unsigned long long>(stats_.goals_skipped),
@@ -697,7 +744,8 @@ void LowLevelPlanner::on_deactivate() {
       static_cast<unsigned long long>(stats_.redundancies), stats_.path_length_m,
       static_cast<unsigned long long>(stats_.goals_nudged),
       static_cast<unsigned long long>(stats_.paths_blocked),
-      static_cast<unsigned long long>(stats_.stuck_backoffs));
+      static_cast<unsigned long long>(stats_.stuck_backoffs),
+      static_cast<unsigned long long>(stats_.stalls));
 }
 
 SCANCREW_REGISTER_COMPONENT(LowLevelPlanner, "low_level_planner")
