@@ -65,8 +65,7 @@ LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
   p.optional("stuck_backoff_m", c.stuck_backoff_m, {0, 100});
   p.optional("path_recheck_horizon_m", c.path_recheck_horizon_m, {0, 1000});
   p.optional("stall_timeout_s", c.stall.timeout_s, {0, 1e6});
-  p.optional("stall_min_motion_m", c.stall.min_motion_m, {0.001, 100});
-  p.optional("stall_min_turn_deg", c.stall.min_turn_deg, {0.1, 360});
+  p.optional("stall_min_progress_m", c.stall.min_progress_m, {0.001, 100});
   if (c.backoff_min_m > c.backoff_max_m) p.report("backoff_min_m", "must not exceed backoff_max_m");
   p.optional("ground_nominal_speed_mps", c.ground_nominal_speed_mps, {0.01, 100});
   p.optional("multirotor_nominal_speed_mps", c.multirotor_nominal_speed_mps, {0.01, 100});
@@ -569,44 +568,53 @@ void LowLevelPlanner::watch_motion() {
 }
 
 void LowLevelPlanner::watch_stall() {
-  // only a robot that should be moving: a hold, a stop or a reached goal restarts the watch
-  if (mode_ != Mode::kMoving || stopped_ || !path_sent_ || !tour_ || tour_->done()) {
+  // only a robot that should be moving, on a pose it can trust: a hold, a stop, a reached
+  // goal or a lost odometry (the tracker holds still, then may turn) restarts the watch
+  if (mode_ != Mode::kMoving || stopped_ || !path_sent_ || !tour_ || tour_->done() ||
+      pose_->tracking_quality <= 0) {
     stall_.reset();
     return;
   }
-  const msg::Vec3& p = pose_->T_world_body.position;
-  if (!stall_.update(msg::to_eigen(p), yaw_of(pose_->T_world_body.orientation), now_s())) return;
+  const Eigen::Vector3d at = msg::to_eigen(pose_->T_world_body.position);
+  const bool planar = checks_.obstacle.kind == RobotKind::kGround;
+  if (!stall_.update(remaining_length_m(local_path_, at, planar), now_s())) return;
   ++stats_.stalls;
   path_sent_ = false;  // the next tick plans to the goal from here
-  if (backing_off_) {
-    backing_off_.reset();  // give the back-off up: the goal from where the robot is
-    log_once("stall_backoff",
-             "stood still for stall_timeout_s backing off: planned to the goal "
-             "from here (further such cases are counted)");
-    return;
-  }
-  const std::pair<uint64_t, size_t> goal{tour_->plan_id, tour_->next};
+  backing_off_.reset();
+  // the first stall on this goal (here: within backoff_max_m of the last one) plans again;
+  // the second skips the goal
+  const bool again = stall_goal_ && stall_goal_->plan_id == tour_->plan_id &&
+                     stall_goal_->goal == tour_->next &&
+                     (at - stall_goal_->at).norm() <= config_.backoff_max_m;
   const msg::Vec3& g = tour_->goal().position;
   char what[200];
-  if (stall_goal_ != goal) {
-    stall_goal_ = goal;
+  if (!again) {
+    stall_goal_ = StallGoal{.plan_id = tour_->plan_id, .goal = tour_->next, .at = at};
     std::snprintf(what, sizeof what,
-                  "stood still at (%.2f, %.2f, %.2f) for %.0f s on a path to (%.2f, %.2f, %.2f): "
-                  "planned again from here (further such cases are counted)",
-                  p.x, p.y, p.z, config_.stall.timeout_s, g.x, g.y, g.z);
+                  "no progress from (%.2f, %.2f, %.2f) for %.0f s on a path to (%.2f, %.2f, "
+                  "%.2f): planned again from here (further such cases are counted)",
+                  at.x(), at.y(), at.z(), config_.stall.timeout_s, g.x, g.y, g.z);
     log_once("stall", what);
     return;
   }
   stall_goal_.reset();
   std::snprintf(what, sizeof what,
-                "stood still again on a path to (%.2f, %.2f, %.2f): that viewpoint is skipped "
+                "no progress again on a path to (%.2f, %.2f, %.2f): that viewpoint is skipped "
                 "(further such cases are counted)",
                 g.x, g.y, g.z);
   log_once("stall_skip", what);
   ++tour_->next;
   ++tour_->skipped;
   ++stats_.goals_skipped;
-  if (tour_->done()) request_replan(ReplanReason::kInfeasible, 0, "stood still at the last goal");
+  if (pending_) {  // held back until this goal was done: a skip is done with it
+    auto [sequence, id] = std::move(*pending_);
+    take(sequence, id);
+    return;
+  }
+  if (tour_->done()) {
+    send_maneuver(msg::Maneuver::Kind::kStop, {}, 0);  // the old path leads to the skipped goal
+    request_replan(ReplanReason::kInfeasible, 0, "no progress to the last goal");
+  }
 }
 
 // The traffic policy's decision for this robot on `path` (its remaining local path; empty

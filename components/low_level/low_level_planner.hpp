@@ -35,8 +35,7 @@
 //
 // Parameters: pose_source, control_period_s, traffic_policy, redundancy_check,
 // max_consecutive_failures, replan_timeout_s, backoff_max_m, backoff_step_m, backoff_min_m,
-// goal_nudge_max_m, path_recheck_horizon_m, stall_timeout_s, stall_min_motion_m,
-// stall_min_turn_deg,
+// goal_nudge_max_m, path_recheck_horizon_m, stall_timeout_s, stall_min_progress_m,
 // `<kind>_nominal_speed_mps`,
 // `<kind>_traffic_radius_m`, the planner core's keys
 // (read_planner_config: robot_type is the launch file's kind) and the checks' keys
@@ -101,9 +100,10 @@ class LowLevelPlanner final : public Component {
     // About the camera's range: farther, the map changes again before the robot gets there.
     // 0: never (the thesis's behaviour).
     double path_recheck_horizon_m = 5.0;
-    // a robot on a path that stands still (stall_watch.hpp) for stall_timeout_s: planned
-    // again from where it is; a second time on the same goal: the goal is skipped. Keys
-    // stall_timeout_s (0: never), stall_min_motion_m, stall_min_turn_deg. Not in the thesis.
+    // a robot whose way left along its path has not shrunk by stall_min_progress_m for
+    // stall_timeout_s (stall_watch.hpp): planned again from where it is; a second time on
+    // the same goal, within backoff_max_m: the goal is skipped. stall_timeout_s 0: never.
+    // Not in the thesis.
     StallConfig stall;
     // the traffic policy's view of every robot of the kind: nominal speed (table 5.3: 0.5
     // m/s ground; 2.6.1: 0.6 m/s multirotor) and the radius holding its body (the ground
@@ -133,7 +133,7 @@ class LowLevelPlanner final : public Component {
     uint64_t paths_blocked = 0;   // local paths a newer map blocked ahead: planned again
     uint64_t traffic_holds = 0;   // stop or step aside maneuvers
     uint64_t redundancies = 0;
-    uint64_t stalls = 0;  // stood still on a path for stall_timeout_s (StallWatch)
+    uint64_t stalls = 0;  // no progress on a path for stall_timeout_s (StallWatch)
     double plan_ms_sum = 0, plan_ms_max = 0;
     PlanStats slowest_plan;    // where the slowest query's time went
     double path_length_m = 0;  // travelled
@@ -171,7 +171,7 @@ class LowLevelPlanner final : public Component {
   // The nearest free pose to `goal`, same yaw, within goal_nudge_max_m.
   std::optional<msg::Waypoint> nudged_goal(const msg::Waypoint& goal) const;
   void watch_motion();  // goal reached, obstacle, traffic
-  void watch_stall();   // a robot standing still on its path: plan again, then skip the goal
+  void watch_stall();   // no progress on the path: plan again, then skip the goal
   TrafficDecision traffic_decision(std::vector<Eigen::Vector3d> path);
   void make_way();  // an idle robot steps aside for a teammate it blocks
   void take(const msg::PathSequence& sequence, uint64_t plan_id);
@@ -217,7 +217,12 @@ class LowLevelPlanner final : public Component {
   };
   std::optional<StuckSpot> stuck_;
   StallWatch stall_;
-  std::optional<std::pair<uint64_t, size_t>> stall_goal_;  // plan id, goal index of the last stall
+  struct StallGoal {  // where the last stall was: plan, goal index, robot position
+    uint64_t plan_id = 0;
+    size_t goal = 0;
+    Eigen::Vector3d at = Eigen::Vector3d::Zero();
+  };
+  std::optional<StallGoal> stall_goal_;
   uint64_t local_path_id_ = 0;
   msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
   msg::Maneuver::Kind last_maneuver_ = msg::Maneuver::Kind::kResume;
