@@ -90,9 +90,11 @@ void print_bridge_bytes(const dds_bridge::DdsBridge& bridge, double sim_s) {
 }
 
 struct MeshScore {
-  std::string robot_ns;
+  std::string robot_ns;  // whose map: a robot's namespace, or "station" (a centralized mapper)
+  std::string from;      // robot_ns, or "robot_ns/component" where one place has two mappers
   std::string mesh_path, octomap_path;
   double voxel_m = 0;
+  double e_max_m = 0;  // the evaluation's
   std::optional<eval::ReconstructionError> error;
 };
 
@@ -116,6 +118,7 @@ std::vector<MeshScore> meshes_in(const fs::path& dir, fs::file_time_type since) 
     if (entry.last_write_time(ec) < since) continue;
     MeshScore s;
     s.robot_ns = name.substr(5, name.size() - 9);
+    s.from = s.robot_ns;
     s.mesh_path = entry.path().string();
     const fs::path map = dir / ("map_" + s.robot_ns + ".bt");
     if (fs::exists(map, ec)) {
@@ -140,6 +143,7 @@ std::vector<MeshScore> meshes_in(const fs::path& dir, fs::file_time_type since) 
 std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& monitor,
                                     fs::file_time_type started) {
   std::vector<MeshScore> scores;
+  std::vector<std::string> component_names;
   for (const auto& c : launch.components()) {
     const auto* mapper = dynamic_cast<const tsdf::TsdfMapper*>(c.get());
     if (mapper == nullptr) continue;
@@ -152,8 +156,17 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
     s.mesh_path = mapper->config().mesh_path;
     s.octomap_path = mapper->config().octomap_path;
     s.voxel_m = mapper->config().tsdf.voxel_m;
+    const std::string& name = mapper->qualified_name();
+    component_names.push_back(name.substr(name.rfind('/') + 1));
     scores.push_back(std::move(s));
   }
+  // two mappers of one place (a planning map and a finer reconstruction map) go by
+  // "place/component"
+  std::map<std::string, int> per_place;
+  for (const MeshScore& s : scores) ++per_place[s.robot_ns];
+  for (size_t i = 0; i < scores.size(); ++i)
+    scores[i].from = scores[i].robot_ns +
+                     (per_place[scores[i].robot_ns] > 1 ? "/" + component_names[i] : std::string());
   if (scores.empty()) scores = meshes_in(launch.out_dir(), started);
   const std::string& scene_path = monitor.config().scene;
   if (scene_path.empty()) return scores;
@@ -176,8 +189,10 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
       std::fprintf(stderr, "scancrew run: evaluation: %s\n", mesh.error().c_str());
       continue;
     }
-    auto r = eval::reconstruction_error(*mesh, truth->points, truth->normals,
-                                        {.e_max_m = eval::max_error_for_voxel(s.voxel_m)});
+    s.e_max_m = monitor.config().eval_e_max_m > 0 ? monitor.config().eval_e_max_m
+                                                  : eval::max_error_for_voxel(s.voxel_m);
+    auto r =
+        eval::reconstruction_error(*mesh, truth->points, truth->normals, {.e_max_m = s.e_max_m});
     if (r)
       s.error = std::move(r).value();
     else
@@ -225,7 +240,11 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
       if (!s.mesh_path.empty() && best == nullptr) best = &s;
   if (best != nullptr) {
     copy_into(best->mesh_path, out / "mesh.ply");
-    copy_into(best->octomap_path, out / "map.bt");
+    // a reconstruction-only mapper writes no OctoMap: the planning map's then
+    const MeshScore* map_from = best;
+    for (const MeshScore& s : scores)
+      if (map_from->octomap_path.empty() && !s.octomap_path.empty()) map_from = &s;
+    copy_into(map_from->octomap_path, out / "map.bt");
   }
 
   Json m;
@@ -249,12 +268,24 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   m["real_time_factor"] = number_or_null(run.wall_s > 0 ? run.sim_s / run.wall_s : NAN);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const eval::ReconstructionError* e = best && best->error ? &*best->error : nullptr;
-  m["mesh_from"] = best ? Json(best->robot_ns) : Json(nullptr);
+  m["mesh_from"] = best ? Json(best->from) : Json(nullptr);
   m["coverage"] = number_or_null(e ? e->coverage : nan);
   m["mean_error_m"] = number_or_null(e ? e->mean_error_m : nan);
   m["std_error_m"] = number_or_null(e ? e->std_error_m : nan);
   m["rmse_m"] = number_or_null(e ? e->rmse_m : nan);
   m["eval_density_per_m2"] = monitor.config().eval_density_per_m2;
+  m["eval_e_max_m"] = number_or_null(e ? best->e_max_m : nan);
+  Json meshes = Json::array();
+  for (const MeshScore& s : scores) {
+    const eval::ReconstructionError* se = s.error ? &*s.error : nullptr;
+    meshes.push_back({{"from", s.from},
+                      {"mesh", s.mesh_path},
+                      {"voxel_m", s.voxel_m},
+                      {"e_max_m", number_or_null(se ? s.e_max_m : nan)},
+                      {"coverage", number_or_null(se ? se->coverage : nan)},
+                      {"rmse_m", number_or_null(se ? se->rmse_m : nan)}});
+  }
+  m["meshes"] = std::move(meshes);
   m["eval_visibility_rays"] = monitor.config().visibility_rays;
 
   std::map<uint32_t, const low_level::LowLevelPlanner*> planners;
@@ -283,9 +314,11 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
         p != planners.end() ? p->second->stats().replans : r.planning_requests;
     replans += robot_replans;
     j["replans"] = robot_replans;
-    double coverage = r.coverage >= 0 ? r.coverage : nan;
+    // the robot's best-covering mesh, else the monitor's estimate
+    double coverage = -1;
     for (const MeshScore& s : scores)
-      if (s.robot_ns == r.ns && s.error) coverage = s.error->coverage;
+      if (s.robot_ns == r.ns && s.error) coverage = std::max(s.error->coverage, coverage);
+    if (coverage < 0) coverage = r.coverage >= 0 ? r.coverage : nan;
     j["coverage"] = number_or_null(coverage);
     if (p != planners.end()) j["goals_reached"] = p->second->stats().goals_reached;
     j["ises_left"] = r.ises_left;
@@ -332,7 +365,7 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
                     : run.stop_reason == "interrupted" ? "interrupted"
                                                        : "out of time";
   std::printf("mission %s after %.1f s simulated (%.1f s wall)", how, run.sim_s, run.wall_s);
-  if (e) std::printf("; coverage %.2f %% (map of %s)", 100 * e->coverage, best->robot_ns.c_str());
+  if (e) std::printf("; coverage %.2f %% (map of %s)", 100 * e->coverage, best->from.c_str());
   std::printf("; contacts robot-scene %llu robot-robot %llu\n",
               static_cast<unsigned long long>(robot_scene),
               static_cast<unsigned long long>(robot_robot));

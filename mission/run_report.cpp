@@ -114,6 +114,7 @@ constexpr Row kSummary[] = {
     {"Wall-clock time (s)", "wall_time_s", Format::kFixed1},
     {"Real-time factor", "real_time_factor", Format::kFixed2},
     {"Coverage (%)", "coverage", Format::kPercent},
+    {"Coverage within e_max (m)", "eval_e_max_m", Format::kFixed4},
     {"Mean error (m)", "mean_error_m", Format::kFixed4},
     {"Error std. dev. (m)", "std_error_m", Format::kFixed4},
     {"RMSE (m)", "rmse_m", Format::kFixed4},

@@ -32,6 +32,7 @@ MissionMonitor::Config MissionMonitor::read_config(ParamReader& p) {
   p.optional("stop_when_complete", c.stop_when_complete);
   p.optional("stall_timeout_s", c.stall_timeout_s, {0, 1e6});
   p.optional("eval_density_per_m2", c.eval_density_per_m2, {1, 1e6});
+  p.optional("eval_e_max_m", c.eval_e_max_m, {0, 100});
   p.optional("visibility_rays", c.visibility_rays, {0, 100000});
   return c;
 }

@@ -27,7 +27,8 @@
 // coverage stays "not measured", -1) or /map, /ises (maps: shared).
 // Parameters: scene ("" or maps: none = no coverage estimate), coverage_density_per_m2,
 // coverage_truncation_share, coverage_period_s, path_period_s, maps, stop_when_complete,
-// stall_timeout_s, eval_density_per_m2 (for the final evaluation of the mesh by the caller),
+// stall_timeout_s, eval_density_per_m2 and eval_e_max_m (for the final evaluation of the mesh
+// by the caller),
 // visibility_rays (the ground truth's mesh visibility test, both; sim/surface_sampler.hpp).
 
 #include <cstdint>
@@ -62,7 +63,9 @@ class MissionMonitor final : public Component {
     bool stop_when_complete = true;
     double stall_timeout_s = 60.0;        // 0: never stop for a stall
     double eval_density_per_m2 = 2000.0;  // the final mesh evaluation (scancrew run --out)
-    int visibility_rays = 64;             // ground truth: the mesh visibility test; 0: off
+    // its e_max: 0 takes each mapper's r_v·√3/2 (thesis 5.4); a table's e_max otherwise
+    double eval_e_max_m = 0.0;
+    int visibility_rays = 64;  // ground truth: the mesh visibility test; 0: off
   };
   static Config read_config(ParamReader& p);
 
