@@ -232,18 +232,28 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   check(mission::write_coverage_csv((out / "coverage.csv").string(), monitor.coverage()));
 
   const auto scores = score_meshes(launch, monitor, run.started_at);
+  // a place with two mappers is represented by its finer one (the reconstruction map), so
+  // the choice does not hang on comparing coverages scored at two e_max
+  const auto represents_place = [&](const MeshScore& s) {
+    return std::none_of(scores.begin(), scores.end(), [&](const MeshScore& o) {
+      return o.robot_ns == s.robot_ns && o.voxel_m < s.voxel_m;
+    });
+  };
   const MeshScore* best = nullptr;
   for (const MeshScore& s : scores)
-    if (s.error && (best == nullptr || s.error->coverage > best->error->coverage)) best = &s;
+    if (s.error && represents_place(s) &&
+        (best == nullptr || s.error->coverage > best->error->coverage))
+      best = &s;
   if (best == nullptr)
     for (const MeshScore& s : scores)
-      if (!s.mesh_path.empty() && best == nullptr) best = &s;
+      if (!s.mesh_path.empty() && represents_place(s) && best == nullptr) best = &s;
   if (best != nullptr) {
     copy_into(best->mesh_path, out / "mesh.ply");
-    // a reconstruction-only mapper writes no OctoMap: the planning map's then
+    // a reconstruction-only mapper writes no OctoMap: its place's planning map's then
     const MeshScore* map_from = best;
     for (const MeshScore& s : scores)
-      if (map_from->octomap_path.empty() && !s.octomap_path.empty()) map_from = &s;
+      if (map_from->octomap_path.empty() && !s.octomap_path.empty() && s.robot_ns == best->robot_ns)
+        map_from = &s;
     copy_into(map_from->octomap_path, out / "map.bt");
   }
 
@@ -314,11 +324,10 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
         p != planners.end() ? p->second->stats().replans : r.planning_requests;
     replans += robot_replans;
     j["replans"] = robot_replans;
-    // the robot's best-covering mesh, else the monitor's estimate
-    double coverage = -1;
+    // the score of the robot's (finest) map's mesh, else the monitor's estimate
+    double coverage = r.coverage >= 0 ? r.coverage : nan;
     for (const MeshScore& s : scores)
-      if (s.robot_ns == r.ns && s.error) coverage = std::max(s.error->coverage, coverage);
-    if (coverage < 0) coverage = r.coverage >= 0 ? r.coverage : nan;
+      if (s.robot_ns == r.ns && s.error && represents_place(s)) coverage = s.error->coverage;
     j["coverage"] = number_or_null(coverage);
     if (p != planners.end()) j["goals_reached"] = p->second->stats().goals_reached;
     j["ises_left"] = r.ises_left;
