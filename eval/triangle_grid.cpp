@@ -5,29 +5,19 @@
 #include <limits>
 #include <utility>
 
+#include "sim/vec3_math.hpp"
+
 namespace scancrew::eval {
 
 namespace {
 
-Point3 sub(const Point3& a, const Point3& b) {
-  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-Point3 add_scaled(const Point3& a, const Point3& d, double s) {
-  return {a[0] + s * d[0], a[1] + s * d[1], a[2] + s * d[2]};
-}
-double dot(const Point3& a, const Point3& b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 double distance2(const Point3& a, const Point3& b) {
-  const Point3 d = sub(a, b);
-  return dot(d, d);
+  const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+  return dx * dx + dy * dy + dz * dz;
 }
 
-Point3 closest_point_on_segment(const Point3& p, const Point3& a, const Point3& b) {
-  const Point3 ab = sub(b, a);
-  const double len2 = dot(ab, ab);
-  if (!(len2 > 0)) return a;
-  return add_scaled(a, ab, std::clamp(dot(sub(p, a), ab) / len2, 0.0, 1.0));
+msg::Vec3 vec(const Point3& p) {
+  return {p[0], p[1], p[2]};
 }
 
 // float bounds that contain the double ones, so that a box test on them never rejects a
@@ -48,35 +38,10 @@ Point3 corner(const std::array<double, 9>& c, size_t i) {
 
 }  // namespace
 
-// Ericson 5.1.5: find the Voronoi region of the triangle (vertex, edge or face) holding p
-// from dot products only, then project onto that feature.
 Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3& b,
                                  const Point3& c) {
-  const Point3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
-  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Point3 bp = sub(p, b);
-  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return add_scaled(a, ab, d1 / (d1 - d3));
-  const Point3 cp = sub(p, c);
-  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return add_scaled(a, ac, d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return add_scaled(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double area2 = va + vb + vc;  // |ab × ac|²
-  if (!(area2 > 0)) {
-    // a degenerate triangle (rounding put p in no region): its nearest edge
-    Point3 best = closest_point_on_segment(p, a, b);
-    for (const Point3& q : {closest_point_on_segment(p, b, c), closest_point_on_segment(p, c, a)})
-      if (distance2(p, q) < distance2(p, best)) best = q;
-    return best;
-  }
-  return add_scaled(add_scaled(a, ab, vb / area2), ac, vc / area2);
+  const msg::Vec3 q = sim::vec3::closest_point_on_triangle(vec(p), vec(a), vec(b), vec(c));
+  return {q.x, q.y, q.z};
 }
 
 template <class F>

@@ -44,6 +44,12 @@ class MeshOcclusion {
   // Whether the segment origin + t dir, t in [t_min, t_max], crosses a triangle.
   bool blocked(const msg::Vec3& origin, const msg::Vec3& dir, double t_min, double t_max) const;
 
+  // Calls f(v0, v1, v2) for the triangles in the hierarchy's leaves whose boxes overlap
+  // [lo, hi] (a superset of the triangles that do), until f returns true; returns whether
+  // one did. Allocates nothing.
+  template <class F>
+  bool any_triangle_near(const msg::Vec3& lo, const msg::Vec3& hi, F&& f) const;
+
  private:
   struct Triangle {
     msg::Vec3 v0, e1, e2;  // v1 = v0 + e1, v2 = v0 + e2
@@ -62,5 +68,33 @@ class MeshOcclusion {
   std::vector<msg::Vec3> directions_;
   msg::Vec3 lo_, hi_;  // the triangles' bounding box, grown by kMargin
 };
+
+template <class F>
+bool MeshOcclusion::any_triangle_near(const msg::Vec3& lo, const msg::Vec3& hi, F&& f) const {
+  if (nodes_.empty()) return false;
+  uint32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const uint32_t self = stack[--top];
+    const Node& node = nodes_[self];
+    if (node.lo.x > hi.x || node.lo.y > hi.y || node.lo.z > hi.z || lo.x > node.hi.x ||
+        lo.y > node.hi.y || lo.z > node.hi.z)
+      continue;
+    if (node.count > 0) {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+        const Triangle& t = triangles_[i];
+        const msg::Vec3 v1{t.v0.x + t.e1.x, t.v0.y + t.e1.y, t.v0.z + t.e1.z};
+        const msg::Vec3 v2{t.v0.x + t.e2.x, t.v0.y + t.e2.y, t.v0.z + t.e2.z};
+        if (f(t.v0, v1, v2)) return true;
+      }
+      continue;
+    }
+    if (top + 2 > 64) return true;  // cannot happen with a median split (see blocked())
+    stack[top++] = node.right;
+    stack[top++] = self + 1;  // the left child is the next node
+  }
+  return false;
+}
 
 }  // namespace scancrew::sim

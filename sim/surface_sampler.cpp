@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "sim/mesh_occlusion.hpp"
+#include "sim/scene_solids.hpp"
 
 namespace scancrew::sim {
 
@@ -34,62 +35,7 @@ double norm(const Vec3& a) {
   return std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
 }
 
-constexpr double kBig = 1e30;  // "unbounded" in an axis-aligned bounding box
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-struct Aabb {
-  Vec3 lo{kBig, kBig, kBig}, hi{-kBig, -kBig, -kBig};
-  void add(const Vec3& p) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  bool overlaps(const Aabb& o, double tol) const {
-    return lo.x <= o.hi.x + tol && o.lo.x <= hi.x + tol && lo.y <= o.hi.y + tol &&
-           o.lo.y <= hi.y + tol && lo.z <= o.hi.z + tol && o.lo.z <= hi.z + tol;
-  }
-};
-
-// A solid that hides what is inside it: a box turned by yaw about z, an upright cylinder,
-// or the half-space under the floor.
-struct Solid {
-  enum class Kind { kBox, kCylinder, kBelowFloor } kind = Kind::kBox;
-  Vec3 center, half;  // box: half extents; cylinder: half.x radius, half.z half height
-  double cos_yaw = 1, sin_yaw = 0;
-  Aabb box;
-
-  bool contains(const Vec3& p, double eps) const {
-    const Vec3 d = p - center;
-    switch (kind) {
-      case Kind::kBox: {
-        const double lx = d.x * cos_yaw + d.y * sin_yaw, ly = -d.x * sin_yaw + d.y * cos_yaw;
-        return std::abs(lx) < half.x + eps && std::abs(ly) < half.y + eps &&
-               std::abs(d.z) < half.z + eps;
-      }
-      case Kind::kCylinder: {
-        const double r = half.x + eps;
-        return std::abs(d.z) < half.z + eps && d.x * d.x + d.y * d.y < r * r;
-      }
-      case Kind::kBelowFloor:
-        return p.z < eps;
-    }
-    return false;
-  }
-};
-
-Solid make_box(const Vec3& center, const Vec3& half, double yaw) {
-  Solid s{.kind = Solid::Kind::kBox,
-          .center = center,
-          .half = half,
-          .cos_yaw = std::cos(yaw),
-          .sin_yaw = std::sin(yaw)};
-  for (int i = 0; i < 8; ++i) {
-    const double lx = (i & 1) != 0 ? half.x : -half.x, ly = (i & 2) != 0 ? half.y : -half.y,
-                 lz = (i & 4) != 0 ? half.z : -half.z;
-    s.box.add({center.x + lx * s.cos_yaw - ly * s.sin_yaw,
-               center.y + lx * s.sin_yaw + ly * s.cos_yaw, center.z + lz});
-  }
-  return s;
-}
 
 // A surface sampled as one: a parallelogram, a horizontal disk, a cylinder's side, or a
 // whole mesh (one draw of the count per triangle).
@@ -132,85 +78,58 @@ double mesh_triangle_area(const TriangleMesh& m, const std::array<uint32_t, 3>& 
          norm(cross(m.vertices[t[1]] - m.vertices[t[0]], m.vertices[t[2]] - m.vertices[t[0]]));
 }
 
-struct World {
-  std::vector<Solid> solids;
-  std::vector<Surface> surfaces;
-};
-
-void add_cylinder(const CylinderSpec& c, World* w) {
-  const int id = static_cast<int>(w->solids.size());
-  const double hh = 0.5 * c.height_m, r = c.radius_m;
-  Solid s{.kind = Solid::Kind::kCylinder, .center = c.center_m, .half = {r, r, hh}};
-  s.box.add(c.center_m - Vec3{r, r, hh});
-  s.box.add(c.center_m + Vec3{r, r, hh});
-  w->solids.push_back(s);
-  Surface side{.kind = Surface::Kind::kCylinderSide,
-               .owner = id,
-               .origin = c.center_m - Vec3{0, 0, hh},
-               .radius = r,
-               .height = c.height_m,
-               .area = kTwoPi * r * c.height_m,
-               .box = s.box};
-  w->surfaces.push_back(side);
-  w->surfaces.push_back(make_disk(c.center_m + Vec3{0, 0, hh}, r, 1, id));
-  w->surfaces.push_back(make_disk(c.center_m - Vec3{0, 0, hh}, r, -1, id));
-}
-
-void add_box(const BoxSpec& b, World* w) {
-  const int id = static_cast<int>(w->solids.size());
-  const Solid s = make_box(b.center_m, 0.5 * b.size_m, b.yaw_rad);
-  w->solids.push_back(s);
-  const Vec3 axes[3] = {{s.cos_yaw, s.sin_yaw, 0}, {-s.sin_yaw, s.cos_yaw, 0}, {0, 0, 1}};
-  const double half[3] = {s.half.x, s.half.y, s.half.z};
-  for (int a = 0; a < 3; ++a) {
-    const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
-    for (const double sign : {-1.0, 1.0}) {
-      const Vec3 n = sign * axes[a];
-      const Vec3 corner = b.center_m + half[a] * n - half[b1] * axes[b1] - half[b2] * axes[b2];
-      w->surfaces.push_back(
-          make_rect(corner, 2 * half[b1] * axes[b1], 2 * half[b2] * axes[b2], n, id));
+// The scene's surfaces facing the bounds, each owned by the solid it bounds: the floor, the
+// ceiling's underside, the walls' inner faces, the boxes' and cylinders' faces.
+std::vector<Surface> room_and_solid_surfaces(const SceneSpec& sc, const SceneSolids& solids) {
+  std::vector<Surface> out;
+  const Vec3 lo = sc.min_m, hi = sc.max_m;
+  const double sx = hi.x - lo.x, sy = hi.y - lo.y;
+  out.push_back(make_rect({lo.x, lo.y, 0}, {sx, 0, 0}, {0, sy, 0}, {0, 0, 1}, 0));
+  if (solids.ceiling_index() >= 0)
+    out.push_back(
+        make_rect({lo.x, lo.y, hi.z}, {0, sy, 0}, {sx, 0, 0}, {0, 0, -1}, solids.ceiling_index()));
+  const double top = std::min(sc.wall_height_m, hi.z);  // above the bounds nothing is kept
+  if (solids.wall_index(0) >= 0 && top > 0) {
+    struct Face {
+      Vec3 origin, u, normal;
+    };
+    const Face faces[4] = {{{lo.x, hi.y, 0}, {sx, 0, 0}, {0, -1, 0}},
+                           {{lo.x, lo.y, 0}, {sx, 0, 0}, {0, 1, 0}},
+                           {{hi.x, lo.y, 0}, {0, sy, 0}, {-1, 0, 0}},
+                           {{lo.x, lo.y, 0}, {0, sy, 0}, {1, 0, 0}}};
+    for (int k = 0; k < 4; ++k)
+      out.push_back(make_rect(faces[k].origin, faces[k].u, {0, 0, top}, faces[k].normal,
+                              solids.wall_index(k)));
+  }
+  for (size_t i = 0; i < sc.boxes.size(); ++i) {
+    const int id = solids.box_index(i);
+    const Solid& s = solids.solids()[static_cast<size_t>(id)];
+    const Vec3 axes[3] = {{s.cos_yaw, s.sin_yaw, 0}, {-s.sin_yaw, s.cos_yaw, 0}, {0, 0, 1}};
+    const double half[3] = {s.half.x, s.half.y, s.half.z};
+    for (int a = 0; a < 3; ++a) {
+      const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
+      for (const double sign : {-1.0, 1.0}) {
+        const Vec3 n = sign * axes[a];
+        const Vec3 corner = s.center + half[a] * n - half[b1] * axes[b1] - half[b2] * axes[b2];
+        out.push_back(make_rect(corner, 2 * half[b1] * axes[b1], 2 * half[b2] * axes[b2], n, id));
+      }
     }
   }
-}
-
-// Floor, ceiling and walls as build_mjcf() places them; their surfaces facing the bounds.
-void add_room(const SceneSpec& sc, World* w) {
-  const Vec3 lo = sc.min_m, hi = sc.max_m;
-  const double sx = hi.x - lo.x, sy = hi.y - lo.y, cx = 0.5 * (lo.x + hi.x),
-               cy = 0.5 * (lo.y + hi.y);
-  Solid floor{.kind = Solid::Kind::kBelowFloor};
-  floor.box.add({-kBig, -kBig, -kBig});
-  floor.box.add({kBig, kBig, 0});
-  w->solids.push_back(floor);
-  w->surfaces.push_back(make_rect({lo.x, lo.y, 0}, {sx, 0, 0}, {0, sy, 0}, {0, 0, 1}, 0));
-  if (sc.ceiling) {
-    const int id = static_cast<int>(w->solids.size());
-    w->solids.push_back(make_box({cx, cy, hi.z + 0.05}, {0.5 * sx + 0.2, 0.5 * sy + 0.2, 0.05}, 0));
-    w->surfaces.push_back(make_rect({lo.x, lo.y, hi.z}, {0, sy, 0}, {sx, 0, 0}, {0, 0, -1}, id));
+  for (size_t i = 0; i < sc.cylinders.size(); ++i) {
+    const CylinderSpec& c = sc.cylinders[i];
+    const int id = solids.cylinder_index(i);
+    const double hh = 0.5 * c.height_m, r = c.radius_m;
+    out.push_back({.kind = Surface::Kind::kCylinderSide,
+                   .owner = id,
+                   .origin = c.center_m - Vec3{0, 0, hh},
+                   .radius = r,
+                   .height = c.height_m,
+                   .area = kTwoPi * r * c.height_m,
+                   .box = solids.solids()[static_cast<size_t>(id)].box});
+    out.push_back(make_disk(c.center_m + Vec3{0, 0, hh}, r, 1, id));
+    out.push_back(make_disk(c.center_m - Vec3{0, 0, hh}, r, -1, id));
   }
-  if (sc.wall_height_m <= 0) return;
-  const double t = sc.wall_thickness_m, h = sc.wall_height_m;
-  const double top = std::min(h, hi.z);  // above the bounds nothing is kept anyway
-  struct Wall {
-    Vec3 center, half, face_origin, face_u, normal;
-  };
-  const Wall walls[] = {
-      {{cx, hi.y + 0.5 * t, 0},
-       {0.5 * sx + t, 0.5 * t, 0},
-       {lo.x, hi.y, 0},
-       {sx, 0, 0},
-       {0, -1, 0}},
-      {{cx, lo.y - 0.5 * t, 0}, {0.5 * sx + t, 0.5 * t, 0}, {lo.x, lo.y, 0}, {sx, 0, 0}, {0, 1, 0}},
-      {{hi.x + 0.5 * t, cy, 0}, {0.5 * t, 0.5 * sy, 0}, {hi.x, lo.y, 0}, {0, sy, 0}, {-1, 0, 0}},
-      {{lo.x - 0.5 * t, cy, 0}, {0.5 * t, 0.5 * sy, 0}, {lo.x, lo.y, 0}, {0, sy, 0}, {1, 0, 0}},
-  };
-  for (const Wall& wall : walls) {
-    const int id = static_cast<int>(w->solids.size());
-    w->solids.push_back(
-        make_box(wall.center + Vec3{0, 0, 0.5 * h}, wall.half + Vec3{0, 0, 0.5 * h}, 0));
-    if (top > 0)
-      w->surfaces.push_back(make_rect(wall.face_origin, wall.face_u, {0, 0, top}, wall.normal, id));
-  }
+  return out;
 }
 
 // Uniform doubles in [0, 1) from the 53 high bits: the same on every standard library.
@@ -229,8 +148,8 @@ uint64_t draw_count(double area, double density, Uniform& u) {
 
 class Sampler {
  public:
-  Sampler(const SceneSpec& scene, const World& world, const SamplingOptions& o)
-      : world_(world), density_(o.density_per_m2), u_(o.seed) {
+  Sampler(const SceneSpec& scene, const SceneSolids& solids, const SamplingOptions& o)
+      : solids_(solids.solids()), density_(o.density_per_m2), u_(o.seed) {
     const double e = kHiddenTolerance;
     lo_ = scene.min_m - Vec3{e, e, e};
     hi_ = scene.max_m + Vec3{e, e, e};
@@ -238,9 +157,9 @@ class Sampler {
 
   void sample(const Surface& s, SurfaceSamples* out) {
     candidates_.clear();
-    for (size_t i = 0; i < world_.solids.size(); ++i)
-      if (static_cast<int>(i) != s.owner && world_.solids[i].box.overlaps(s.box, kHiddenTolerance))
-        candidates_.push_back(&world_.solids[i]);
+    for (size_t i = 0; i < solids_.size(); ++i)
+      if (static_cast<int>(i) != s.owner && solids_[i].box.overlaps(s.box, kHiddenTolerance))
+        candidates_.push_back(&solids_[i]);
     sampled_ = 0;
     const size_t begin = out->points.size();
     out_ = out;
@@ -332,7 +251,7 @@ class Sampler {
         {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)});
   }
 
-  const World& world_;
+  const std::vector<Solid>& solids_;
   double density_;
   Uniform u_;
   Vec3 lo_, hi_;
@@ -358,19 +277,17 @@ Result<SurfaceSamples, std::string> sample_surfaces(const SceneSpec& scene,
         "surface sampling: visibility_rays must be 0 (no mesh visibility test) "
         "or a number of ray directions, not " +
         std::to_string(options.visibility_rays));
-  World world;
-  add_room(scene, &world);
-  for (const BoxSpec& b : scene.boxes) add_box(b, &world);
-  for (const CylinderSpec& c : scene.cylinders) add_cylinder(c, &world);
+  const SceneSolids solids(scene, {});
+  std::vector<Surface> surfaces = room_and_solid_surfaces(scene, solids);
   for (const TriangleMesh& m : placed_meshes) {
     Surface s{.kind = Surface::Kind::kMesh, .mesh = &m};
     for (const auto& t : m.triangles) s.area += mesh_triangle_area(m, t);
     for (const Vec3& v : m.vertices) s.box.add(v);
-    world.surfaces.push_back(s);
+    surfaces.push_back(s);
   }
 
   double total_area = 0;
-  for (const Surface& s : world.surfaces) total_area += s.area;
+  for (const Surface& s : surfaces) total_area += s.area;
   const double expected = total_area * d;
   if (expected > static_cast<double>(options.max_points)) {
     char msg[320];
@@ -384,11 +301,11 @@ Result<SurfaceSamples, std::string> sample_surfaces(const SceneSpec& scene,
   }
 
   SurfaceSamples out;
-  const auto reserve = static_cast<size_t>(expected) + world.surfaces.size();
+  const auto reserve = static_cast<size_t>(expected) + surfaces.size();
   out.points.reserve(reserve);
   out.normals.reserve(reserve);
-  Sampler sampler(scene, world, options);
-  for (const Surface& s : world.surfaces) sampler.sample(s, &out);
+  Sampler sampler(scene, solids, options);
+  for (const Surface& s : surfaces) sampler.sample(s, &out);
   if (options.visibility_rays > 0 && !placed_meshes.empty()) {
     const MeshOcclusion occlusion(placed_meshes, options.visibility_rays);
     sampler.finish(&occlusion, &out);
