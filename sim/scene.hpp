@@ -46,6 +46,18 @@ struct MeshSpec {
   std::string attribution;  // shown wherever the scene is shipped
 };
 
+// A place a robot may start: x, y, z (a ground robot's z is 0: it stands on the floor), yaw.
+struct StartPose {
+  msg::Vec3 position_m;
+  double yaw_rad = 0;
+};
+
+// Start poses the scene offers, per robot kind (the scene file's `starts:`); a launch file
+// still says where each robot starts. Each is inside the bounds.
+struct SceneStarts {
+  std::vector<StartPose> ground, multirotor;
+};
+
 struct SceneSpec {
   std::string name;
   std::string source;      // the YAML file it came from
@@ -58,11 +70,13 @@ struct SceneSpec {
   std::vector<MeshSpec> meshes;
   double dot_size_m = 0.02;  // texel size of the random-dot texture
   uint64_t texture_seed = 1;
+  SceneStarts starts;  // optional; empty lists when the file has none
 };
 
 // Reads and validates a scene file: missing mesh files, degenerate geometry (zero or
-// negative sizes), objects outside the bounds and unknown keys are errors naming the
-// file, the key and what is allowed.
+// negative sizes), objects outside the bounds, starts outside the bounds or not of the form
+// [x, y, z, yaw_deg], and unknown keys are errors naming the file, the key and what is
+// allowed.
 Result<SceneSpec, std::vector<std::string>> load_scene(const std::string& path);
 Result<SceneSpec, std::vector<std::string>> parse_scene(const std::string& yaml_text,
                                                         const std::string& label,

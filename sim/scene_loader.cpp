@@ -33,7 +33,7 @@ class SceneReader {
     top.optional("wall_thickness_m", s.wall_thickness_m, {0.01, 10});
     top.optional("dot_size_m", s.dot_size_m, {0.001, 1});
     top.optional("texture_seed", s.texture_seed);
-    for (const char* list : {"boxes", "cylinders", "meshes"}) top.mark_known(list);
+    for (const char* list : {"boxes", "cylinders", "meshes", "starts"}) top.mark_known(list);
     top.finish();
     merge(top);
     if (min.size() != 3 || max.size() != 3) {
@@ -53,6 +53,7 @@ class SceneReader {
               [&](ParamReader& r, const std::string& path) { read_cylinder(r, path, s); });
     read_list(root["meshes"], "meshes",
               [&](ParamReader& r, const std::string& path) { read_mesh(r, path, s); });
+    read_starts(root["starts"], s);
     check_names(s);
     if (!errors_.empty()) return make_unexpected(errors_);
     return s;
@@ -160,6 +161,67 @@ class SceneReader {
         r.report("file", "mesh file '" + m.file + "' does not exist");
     }
     s.meshes.push_back(m);
+  }
+
+  // starts: {ground: [[x, y, z, yaw_deg], ...], multirotor: [...]}, each inside the bounds
+  void read_starts(const YAML::Node& node, SceneSpec& s) {
+    if (!node.IsDefined() || node.IsNull()) return;
+    if (!node.IsMap()) {
+      errors_.push_back(yaml_location(label_, node) +
+                        ": scene.starts: must be a mapping {ground: [...], multirotor: [...]}");
+      return;
+    }
+    ParamReader keys = make_param_reader(node, label_, "starts");
+    for (const char* kind : {"ground", "multirotor"}) keys.mark_known(kind);
+    keys.finish();
+    merge(keys);
+    read_start_list(node["ground"], "ground", s, s.starts.ground);
+    read_start_list(node["multirotor"], "multirotor", s, s.starts.multirotor);
+  }
+
+  void read_start_list(const YAML::Node& node, const std::string& kind, const SceneSpec& s,
+                       std::vector<StartPose>& out) {
+    if (!node.IsDefined() || node.IsNull()) return;
+    const std::string key = "scene.starts." + kind;
+    if (!node.IsSequence()) {
+      errors_.push_back(yaml_location(label_, node) + ": " + key +
+                        ": must be a list of [x, y, z, yaw_deg]");
+      return;
+    }
+    for (size_t i = 0; i < node.size(); ++i) {
+      const YAML::Node& item = node[i];
+      const std::string where =
+          yaml_location(label_, item) + ": " + key + "[" + std::to_string(i) + "]";
+      double v[4] = {};
+      bool ok = item.IsSequence() && item.size() == 4;
+      for (size_t k = 0; ok && k < 4; ++k) {
+        try {
+          v[k] = item[k].as<double>();
+        } catch (const YAML::Exception&) {
+          ok = false;
+        }
+      }
+      if (!ok) {
+        errors_.push_back(where + ": allowed: [x, y, z, yaw_deg], four numbers");
+        continue;
+      }
+      const msg::Vec3 p{v[0], v[1], v[2]};
+      if (p.x < s.min_m.x || p.x > s.max_m.x || p.y < s.min_m.y || p.y > s.max_m.y ||
+          p.z < s.min_m.z || p.z > s.max_m.z) {
+        errors_.push_back(where +
+                          ": outside the bounds; allowed: a point inside bounds_min_m / "
+                          "bounds_max_m");
+        continue;
+      }
+      if (v[3] < -360 || v[3] > 360) {
+        std::ostringstream yaw;
+        yaw << v[3];
+        errors_.push_back(where + ": yaw_deg " + yaw.str() +
+                          " is out of range; allowed: [-360, 360]");
+        continue;
+      }
+      out.push_back({p, v[3] * M_PI / 180.0});
+    }
   }
 
   std::string label_, base_dir_;
