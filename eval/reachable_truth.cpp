@@ -24,6 +24,7 @@ using msg::Vec3;
 struct View {
   ObserverModel o;
   double tan_half;
+  bool two_sided;  // a surface is seen from either side (the line of sight rules out solids')
 };
 
 // Whether a camera on a body at b, turned towards p, sees p (normal n) by range, field of
@@ -36,7 +37,8 @@ bool in_view(const View& v, const Vec3& b, const Vec3& p, const Vec3& n, Vec3* c
   *cam = {b.x + f * dx, b.y + f * dy, b.z + v.o.camera_up_m};
   const Vec3 to_cam{cam->x - p.x, cam->y - p.y, cam->z - p.z};
   if (std::abs(to_cam.z) > h * v.tan_half) return false;
-  const double along = n.x * to_cam.x + n.y * to_cam.y + n.z * to_cam.z;
+  double along = n.x * to_cam.x + n.y * to_cam.y + n.z * to_cam.z;
+  if (v.two_sided) along = std::abs(along);
   if (!(along > 0)) return false;
   const double cos2 = v.o.min_facing_cos * v.o.min_facing_cos;
   return along * along > cos2 * (to_cam.x * to_cam.x + to_cam.y * to_cam.y + to_cam.z * to_cam.z);
@@ -51,6 +53,7 @@ bool may_view(const View& v, const Vec3& b, const Vec3& c, double rho, const dou
   if (h_far < v.o.min_range_m || hb - rho - fwd > v.o.max_range_m) return false;
   const double dz = b.z + v.o.camera_up_m - c.z;
   if (std::abs(dz) - rho > std::min(h_far, v.o.max_range_m) * v.tan_half) return false;
+  if (v.two_sided) return true;
   const double reach = rho + fwd;
   return s[0] * -dx > -reach || s[1] * -dy > -reach || s[2] * dz > -reach;
 }
@@ -150,7 +153,8 @@ Result<ReachableTruth, std::string> reachable_truth(
   out.poses = poses.size();
   if (points.empty()) return out;
 
-  const View view{observer, std::tan(0.5 * observer.fov_v_deg * std::numbers::pi / 180)};
+  const View view{observer, std::tan(0.5 * observer.fov_v_deg * std::numbers::pi / 180),
+                  !options.trust_normals};
   const double bm = options.bucket_m, rho = 0.5 * std::sqrt(3.0) * bm;
   const double reach_xy = observer.max_range_m + observer.camera_forward_m + rho;
   const double reach_z = reach_xy * view.tan_half + std::abs(observer.camera_up_m) + rho;
@@ -187,7 +191,6 @@ Result<ReachableTruth, std::string> reachable_truth(
   const int cap = options.max_rays_per_point, near_cap = (cap + 1) / 2;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, out.buckets, 4), [&](const auto& r) {
     std::vector<std::pair<double, uint32_t>> cands;  // (distance, pose), nearest first
-    std::vector<uint32_t> valid;
     uint64_t local_rays = 0;
     for (size_t b = r.begin(); b != r.end(); ++b) {
       // the bucket's voxel, octant and candidate body positions
@@ -212,31 +215,37 @@ Result<ReachableTruth, std::string> reachable_truth(
         const Vec3 p{points[pi][0], points[pi][1], points[pi][2]};
         const Vec3 n{normals[pi][0], normals[pi][1], normals[pi][2]};
         Vec3 cam;
-        const auto sees = [&](size_t k) {
-          if (!in_view(view, poses[cands[k].second], p, n, &cam)) return false;
+        // the candidate that served the bucket's last point first
+        if (last >= 0 &&
+            in_view(view, poses[cands[static_cast<size_t>(last)].second], p, n, &cam)) {
           ++local_rays;
-          return !solids.segment_blocked(cam, p, options.end_margin_m);
-        };
-        if (last >= 0 && sees(static_cast<size_t>(last))) {
-          out.observable[pi] = 1;
-          continue;
-        }
-        valid.clear();
-        for (size_t k = 0; k < cands.size(); ++k)
-          if (static_cast<int64_t>(k) != last && in_view(view, poses[cands[k].second], p, n, &cam))
-            valid.push_back(static_cast<uint32_t>(k));
-        // the nearest near_cap, then the rest of the cap spread over the others
-        const size_t nv = valid.size(), tries = std::min<size_t>(nv, static_cast<size_t>(cap));
-        for (size_t t = 0; t < tries; ++t) {
-          const size_t idx = nv <= static_cast<size_t>(cap) || t < static_cast<size_t>(near_cap)
-                                 ? t
-                                 : near_cap + (t - near_cap) * (nv - near_cap) / (cap - near_cap);
-          if (sees(valid[idx])) {
+          if (!solids.segment_blocked(cam, p, options.end_margin_m)) {
             out.observable[pi] = 1;
-            last = valid[idx];
-            break;
+            continue;
           }
         }
+        // the nearest candidates first; after near_cap lines of sight, the others in a
+        // spread order (every stride-th, then the next phase), up to cap in all
+        int cast = 0;
+        const auto try_candidate = [&](size_t k) {
+          if (static_cast<int64_t>(k) == last) return false;
+          const bool ok = in_view(view, poses[cands[k].second], p, n, &cam);
+          if (!ok) return false;
+          ++cast;
+          ++local_rays;
+          if (solids.segment_blocked(cam, p, options.end_margin_m)) return false;
+          last = static_cast<int64_t>(k);
+          return true;
+        };
+        bool found = false;
+        size_t k = 0;
+        for (; k < cands.size() && cast < near_cap && !found; ++k) found = try_candidate(k);
+        const size_t rest = cands.size() - k;
+        const size_t stride = std::max<size_t>(1, rest / static_cast<size_t>(cap - near_cap + 1));
+        for (size_t phase = 0; phase < stride && !found && cast < cap; ++phase)
+          for (size_t j = k + phase; j < cands.size() && !found && cast < cap; j += stride)
+            found = try_candidate(j);
+        if (found) out.observable[pi] = 1;
       }
     }
     rays += local_rays;

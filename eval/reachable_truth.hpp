@@ -13,9 +13,11 @@
 //   - range: its depth along the optical axis, the horizontal distance from the camera, is in
 //     [min_range_m, max_range_m] (depth images are cut by depth, not by ray length);
 //   - vertical field of view: its elevation from the camera is within ±fov_v_deg / 2;
-//   - facing: its normal points towards the camera (cos > min_facing_cos);
+//   - facing: the camera is on the side of the surface its normal points to, or either side
+//     unless trust_normals (mesh windings are not reliable), |cos| > min_facing_cos;
 //   - line of sight: the segment camera-point crosses no solid, mesh triangle or floor
-//     (sim::SceneSolids::segment_blocked, end_margin_m at each end).
+//     (sim::SceneSolids::segment_blocked, end_margin_m at each end): this also rules out the
+//     back of a solid's face.
 //
 // Approximation (for speed; the parking lot's 1.5 M points and the powerplant's 1.8 M take
 // seconds, docs/evaluation.md): body positions are FreeSpace::reachable_positions on a
@@ -47,7 +49,7 @@ struct ObserverModel {
   double camera_up_m = 0.35;  // above the body origin: ground, the floor; multirotor, its centre
   double min_range_m = 0.3, max_range_m = 5.0;  // depth along the optical axis
   double fov_v_deg = 60.0;                      // vertical field of view, around the horizon
-  double min_facing_cos = 0.0;  // the normal's cosine to the direction of the camera, above this
+  double min_facing_cos = 0.0;  // |cos| of the normal to the direction of the camera, above this
 };
 
 // The observer of a robot's camera (sim::CameraSpec: mount, range, vertical FOV).
@@ -57,7 +59,13 @@ struct ReachableTruthOptions {
   double pose_spacing_m = 0;  // lattice of body positions; 0: 0.5 m ground, 1 m multirotor
   double bucket_m = 1.0;      // voxel of the point buckets
   int max_rays_per_point = 24;
-  double end_margin_m = 0.02;  // segment_blocked's margin at each end
+  double end_margin_m = 1e-3;  // segment_blocked's margin at each end
+  // true: a point is seen only from the side its normal points to (fewer candidates: faster).
+  // sample_surfaces' normals of boxes, cylinders, walls, floor and ceiling are right; a
+  // mesh's follow its triangles' winding, which the powerplant's does not keep consistent
+  // (70 % of its points observable one-sided, 96 % two-sided). false: either side; the line of
+  // sight rules out the inside of a solid.
+  bool trust_normals = false;
 };
 
 struct ReachableTruth {

@@ -184,11 +184,13 @@ cylinders:
                      b.y + o.camera_forward_m * std::sin(heading), b.z + o.camera_up_m};
       const double depth = std::hypot(p.x - cam.x, p.y - cam.y);
       const double elevation = std::atan2(p.z - cam.z, depth);
-      const double facing = nf[0] * (cam.x - p.x) + nf[1] * (cam.y - p.y) + nf[2] * (cam.z - p.z);
+      // either side of the surface: the line of sight rules out the back of a solid's face
+      const double facing =
+          std::abs(nf[0] * (cam.x - p.x) + nf[1] * (cam.y - p.y) + nf[2] * (cam.z - p.z));
       if (std::hypot(p.x - b.x, p.y - b.y) < o.camera_forward_m || depth < o.min_range_m ||
           depth > o.max_range_m || std::abs(elevation) > half_fov || facing <= 0)
         continue;
-      if (!solids.segment_blocked(cam, p, 0.02)) {
+      if (!solids.segment_blocked(cam, p, ReachableTruthOptions{}.end_margin_m)) {
         seen = true;
         break;
       }
@@ -200,6 +202,43 @@ cylinders:
   EXPECT_GT(reference, c.truth.points.size() / 2);
   EXPECT_LT(static_cast<double>(missed), 0.005 * static_cast<double>(reference));
   EXPECT_EQ(c.result.observable_count + missed, reference);
+}
+
+// A mesh triangle whose winding points away from the robot: seen from its back unless the
+// normals are trusted.
+TEST(ReachableTruth, AMeshSurfaceIsSeenFromEitherSideUnlessNormalsAreTrusted) {
+  const sim::SceneSpec scene = scene_of(R"(
+name: sheet
+bounds_min_m: [-5, -5, 0]
+bounds_max_m: [5, 5, 3]
+)");
+  const sim::TriangleMesh sheet{.vertices = {{2, -2, 0}, {2, 2, 0}, {2, 0, 2}},
+                                .triangles = {{0, 1, 2}}};
+  const sim::SceneSolids solids(scene, {sheet});
+  auto fs = FreeSpace::build(solids, scene, default_body(sim::RobotKind::kGround), {{-2, 0, 0}});
+  ASSERT_TRUE(fs) << fs.error();
+  const std::vector<std::array<float, 3>> points = {{2, 0, 0.5}, {2, 1, 0.3}};
+  const std::vector<std::array<float, 3>> away = {{1, 0, 0}, {1, 0, 0}};  // towards +x
+  auto either = reachable_truth(points, away, solids, *fs, {});
+  ASSERT_TRUE(either) << either.error();
+  EXPECT_EQ(either->observable_count, 2u);  // from x < 2
+  ReachableTruthOptions trusted;
+  trusted.trust_normals = true;
+  auto one = reachable_truth(points, away, solids, *fs, {}, trusted);
+  ASSERT_TRUE(one) << one.error();
+  // from x > 2 only, round the sheet's ends: the sheet is 4 m wide at the floor, the yard 10 m
+  EXPECT_EQ(one->observable_count, 2u);
+  // walls close the yard at the sheet's ends: nothing reaches its +x side
+  sim::SceneSpec closed = scene;
+  closed.boxes.push_back({.name = "left", .center_m = {2, -3.5, 1}, .size_m = {0.2, 3, 2}});
+  closed.boxes.push_back({.name = "right", .center_m = {2, 3.5, 1}, .size_m = {0.2, 3, 2}});
+  const sim::SceneSolids closed_solids(closed, {sheet});
+  auto closed_fs =
+      FreeSpace::build(closed_solids, closed, default_body(sim::RobotKind::kGround), {{-2, 0, 0}});
+  ASSERT_TRUE(closed_fs) << closed_fs.error();
+  EXPECT_EQ(reachable_truth(points, away, closed_solids, *closed_fs, {}, trusted)->observable_count,
+            0u);
+  EXPECT_EQ(reachable_truth(points, away, closed_solids, *closed_fs, {})->observable_count, 2u);
 }
 
 TEST(ReachableTruth, ObservableSamplesKeepTheSeenPointsAndTheirShareOfTheArea) {
