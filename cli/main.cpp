@@ -1,6 +1,6 @@
 // scancrew: the command line. Subcommands: run, sim, robot, station, sweep, components, graph,
-// render, groundtruth, eval, report, bench (ipc, sim, perception, tsdf, ise, tsp, planner,
-// pipeline).
+// render, groundtruth, scenegen, eval, report, bench (ipc, sim, perception, tsdf, ise, tsp,
+// planner, pipeline).
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -11,6 +11,7 @@
 #include "cli/render_command.hpp"
 #include "cli/report.hpp"
 #include "cli/run_command.hpp"
+#include "cli/scenegen_command.hpp"
 #include "cli/sweep_command.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
@@ -188,6 +189,14 @@ int main(int argc, char** argv) {
       ->add_option("--visibility-rays", gt_options.visibility_rays,
                    "ray directions per point of the mesh visibility test, 0: off (default 64)")
       ->check(CLI::Range(0, 100000));
+
+  scancrew::cli::ScenegenOptions scenegen_options;
+  auto* scenegen = app.add_subcommand(
+      "scenegen", "write a procedural scene (indoor floor or outdoor site) from a seed");
+  scenegen->add_option("--family", scenegen_options.family, "indoor | outdoor");
+  scenegen->add_option("--seed", scenegen_options.seed, "the seed, an integer >= 0");
+  scenegen->add_option("--out", scenegen_options.out_dir,
+                       "folder to write <family>_<seed>.yaml to");
 
   scancrew::cli::EvalOptions eval_options;
   auto* eval = app.add_subcommand(
@@ -412,6 +421,7 @@ int main(int argc, char** argv) {
   if (graph->parsed()) return cmd_graph(graph_path);
   if (render->parsed()) return scancrew::cli::run_render(render_options);
   if (groundtruth->parsed()) return scancrew::cli::run_groundtruth(gt_options);
+  if (scenegen->parsed()) return scancrew::cli::run_scenegen(scenegen_options);
   if (eval->parsed()) return scancrew::cli::run_eval(eval_options);
   if (report->parsed()) return cmd_report(report_dir);
   if (sim_cmd->parsed()) {

@@ -195,7 +195,7 @@ class OutdoorDrawer {
     Group g;
     const std::string tag = "rack_" + std::to_string(id);
     const bool along_x = rng_.chance(0.5);
-    const double len = cm(rng_.uniform(10.0, 22.0)), wide = cm(rng_.uniform(2.0, 3.0));
+    const double len = cm(rng_.uniform(10.0, 22.0)), wide = 2 * cm(rng_.uniform(1.0, 1.5));
     const double top = height(rng_.uniform(4.0, 7.0));
     const int bays = std::max(2, static_cast<int>(std::round(len / rng_.uniform(5.0, 6.0))));
     const bool lower = top >= 5.0 && rng_.chance(0.5);
@@ -206,7 +206,7 @@ class OutdoorDrawer {
     };
     const double post = 0.3, beam = 0.25;
     for (int k = 0; k <= bays; ++k) {
-      const double u = -0.5 * len + k * len / bays;
+      const double u = cm(-0.5 * len + k * len / bays);
       for (int side = 0; side < 2; ++side) {
         const double v = side == 0 ? -0.5 * wide : 0.5 * wide;
         g.add(make_box(tag + "_post_" + std::to_string(k + 1) + "_" + std::to_string(side + 1),
@@ -224,8 +224,8 @@ class OutdoorDrawer {
     for (int tier = 0; tier < (lower ? 2 : 1); ++tier) {
       const double z = top - 2.0 * tier + beam;
       for (int p = 0; p < pipes; ++p) {
-        const double d = cm(rng_.uniform(0.25, 0.5));
-        const double v = -0.5 * wide + (p + 1) * wide / (pipes + 1);
+        const double d = 2 * cm(rng_.uniform(0.125, 0.25));
+        const double v = cm(-0.5 * wide + (p + 1) * wide / (pipes + 1));
         g.add(make_box(tag + "_pipe_" + std::to_string(tier + 1) + "_" + std::to_string(p + 1),
                        to_site(-0.5 * len - 0.5, 0.5 * len + 0.5, v - 0.5 * d, v + 0.5 * d), z,
                        z + d, kPipe));
