@@ -40,7 +40,10 @@ struct BodyModel {
 };
 
 // Defaults for a kind, from sim::body_size and the thesis (ground: the 0.55 x 0.25 m safety
-// ellipse's footprint; multirotor: the 1 m collision sphere of table 2.1).
+// ellipse's footprint; multirotor: the 1 m collision sphere of table 2.1). Ground: radius
+// 0.25 m, the ellipse's minor semi-axis (the half width it needs to drive along a passage,
+// facing it; it is not asked to turn on the spot there), height 0.4 m (body and camera).
+// Multirotor: radius 1 m, band 1 to 20 m.
 BodyModel default_body(sim::RobotKind kind);
 
 struct FreeSpaceOptions {

@@ -2,7 +2,8 @@
 // one scene, for one robot kind and its starts; prints the point counts, the free space and
 // the wall-clock times of each stage (docs/evaluation.md, "Reachable ground truth").
 //
-//   bench_reachable_truth <scene.yaml> ground|multirotor "x,y,z[;x,y,z...]" [density_per_m2]
+//   bench_reachable_truth <scene.yaml> ground|multirotor "x,y,z[;x,y,z...]" [density_per_m2
+//                         [pose_spacing_m [max_rays_per_point]]]
 //
 // The camera is the team simulator's default for the kind (ground: range [0.3, 5] m, 0.35 m
 // up; multirotor: [1.6, 8] m, at the body centre); the body and altitude band default_body's.
@@ -19,7 +20,8 @@ int main(int argc, char** argv) {
   using namespace scancrew;
   if (argc < 4) {
     std::fprintf(stderr,
-                 "usage: %s <scene.yaml> ground|multirotor \"x,y,z[;x,y,z...]\" [density]\n",
+                 "usage: %s <scene.yaml> ground|multirotor \"x,y,z[;x,y,z...]\" [density [spacing "
+                 "[rays]]]\n",
                  argv[0]);
     return 2;
   }
@@ -47,8 +49,12 @@ int main(int argc, char** argv) {
     camera.max_range_m = 8.0;
     camera.mount_up_m = 0.0;
   }
+  eval::ReachableTruthOptions options;
+  if (argc > 5) options.pose_spacing_m = std::atof(argv[5]);
+  if (argc > 6) options.max_rays_per_point = std::atoi(argv[6]);
   const auto t0 = std::chrono::steady_clock::now();
-  auto r = eval::scene_reachable_truth(argv[1], eval::default_body(kind), starts, camera, sampling);
+  auto r = eval::scene_reachable_truth(argv[1], eval::default_body(kind), starts, camera, sampling,
+                                       options);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!r) {
     std::fprintf(stderr, "%s\n", r.error().c_str());
