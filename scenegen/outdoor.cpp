@@ -69,22 +69,27 @@ class OutdoorDrawer {
     s.dot_size_m = 0.05;
     site_ = Rect{s.min_m.x, s.min_m.y, s.max_m.x, s.max_m.y};
 
-    // 3-8 buildings first, then 1-2 pipe racks and 1-3 towers where room is left; a site
-    // where fewer than 3 buildings, or no rack or no tower, fit is drawn again
-    const int buildings = rng_.integer(3, 8);
-    // sides up to 18 m, less where many buildings share a small site
-    max_side_ = std::clamp(0.6 * std::sqrt(width * depth / buildings), 8.0, 18.0);
+    // a pipe rack and a tower first (they are long or wide: they fit best on an empty site),
+    // then 3-8 buildings, at most one per 400 m2 of site so that a small site is not crowded,
+    // then up to one more rack and two more towers where room is left; a site where fewer
+    // than 3 buildings, the first rack or the first tower fit is drawn again
+    const int buildings =
+        rng_.integer(3, std::clamp(static_cast<int>(width * depth / 400.0), 3, 8));
+    const int racks = rng_.integer(1, 2), towers = rng_.integer(1, 3);
+    // building sides up to 18 m, less where many share a small site
+    max_side_ = std::clamp(0.5 * std::sqrt(width * depth / buildings), 8.0, 18.0);
+    max_rack_m_ = std::min(22.0, 0.4 * std::min(width, depth));
+    int racks_placed = place([&] { return pipe_rack(1); }, true);
+    int towers_placed = place([&] { return tower(1); }, true);
+    if (racks_placed == 0 || towers_placed == 0) c_.defect = "no room for a pipe rack or a tower";
     int placed = 0;
     for (int i = 1; i <= buildings; ++i)
       placed += place([&] { return building(placed + 1); }, false);
     if (placed < 3) c_.defect = "only " + std::to_string(placed) + " buildings fit on the site";
-    const int racks = rng_.integer(1, 2), towers = rng_.integer(1, 3);
-    int racks_placed = 0, towers_placed = 0;
-    for (int i = 1; i <= racks; ++i)
+    for (int i = 2; i <= racks; ++i)
       racks_placed += place([&] { return pipe_rack(racks_placed + 1); }, true);
-    for (int i = 1; i <= towers; ++i)
+    for (int i = 2; i <= towers; ++i)
       towers_placed += place([&] { return tower(towers_placed + 1); }, true);
-    if (racks_placed == 0 || towers_placed == 0) c_.defect = "no room for a pipe rack or a tower";
 
     // the region to reconstruct: 2 m above the tallest top
     double top = 0;
@@ -95,11 +100,11 @@ class OutdoorDrawer {
   }
 
  private:
-  // draws the object up to 30 times until its footprint fits
+  // draws the object up to 60 times until its footprint fits
   template <class Draw>
   bool place(Draw&& draw, bool removable) {
     const Rect inside = site_.grown(-kEdge);
-    for (int attempt = 0; attempt < 30; ++attempt) {
+    for (int attempt = 0; attempt < 60; ++attempt) {
       Group g = draw();
       // drawn around the origin; moved to a place drawn where it stays inside the site
       const double x0 = inside.x0 - g.extent.x0, x1 = inside.x1 - g.extent.x1;
@@ -126,7 +131,8 @@ class OutdoorDrawer {
   static double height(double h) { return std::round(h * 10.0) / 10.0; }
 
   // a rectangular block, an L (a wing on one side) or a stepped block (a tower on part of a
-  // low base); 6-18 m sides, 4-20 m tall; half of those 6 m or taller carry an overhang
+  // low base); sides 6 m to max_side_ (8-18 m), 4-20 m tall; half of those 6 m or taller
+  // carry an overhang
   Group building(int id) {
     Group g;
     const std::string tag = "building_" + std::to_string(id);
@@ -147,9 +153,10 @@ class OutdoorDrawer {
     } else {
       g.add(make_box(tag, main, 0, h, color));
       if (shape < 0.7) {
-        // L: a wing 4-10 m deep along one side, from one end, 4 m tall or more
+        // L: a wing 4-10 m deep (at most 0.6 max_side_) along one side, from one end, 4 m
+        // tall or more
         const bool along_x = rng_.chance(0.5);
-        const double deep = cm(rng_.uniform(4.0, 10.0));
+        const double deep = cm(rng_.uniform(4.0, std::min(10.0, 0.6 * max_side_)));
         const double wing_h = height(rng_.uniform(4.0, h));
         Rect wing;
         if (along_x) {
@@ -189,13 +196,14 @@ class OutdoorDrawer {
     return g;
   }
 
-  // two rows of posts 5-6 m apart, 10-22 m long, 2-3 m wide, 4-7 m tall; cross beams at
-  // the top (and half the time a lower tier 2 m down) carrying 2-4 pipes along the rack
+  // two rows of posts 5-6 m apart, 10-22 m long (at most 0.4 of the site's shorter side), 2-3 m
+  // wide, 4-7 m tall; cross beams at the top (and half the time a lower tier 2 m down) carrying 2-4
+  // pipes along the rack
   Group pipe_rack(int id) {
     Group g;
     const std::string tag = "rack_" + std::to_string(id);
     const bool along_x = rng_.chance(0.5);
-    const double len = cm(rng_.uniform(10.0, 22.0)), wide = 2 * cm(rng_.uniform(1.0, 1.5));
+    const double len = cm(rng_.uniform(10.0, max_rack_m_)), wide = 2 * cm(rng_.uniform(1.0, 1.5));
     const double top = height(rng_.uniform(4.0, 7.0));
     const int bays = std::max(2, static_cast<int>(std::round(len / rng_.uniform(5.0, 6.0))));
     const bool lower = top >= 5.0 && rng_.chance(0.5);
@@ -268,7 +276,7 @@ class OutdoorDrawer {
   Rng& rng_;
   Candidate c_;
   Rect site_;
-  double max_side_ = 18.0;
+  double max_side_ = 18.0, max_rack_m_ = 22.0;
 };
 
 }  // namespace
