@@ -101,6 +101,10 @@ void Component::note_port(std::string_view port, const std::string& topic, std::
     context_.graph->record({kind, qualified_name_, std::string(port), topic, std::string(type)});
 }
 
+void Component::mark_input_optional(std::string_view port) {
+  context_.graph->mark_optional(qualified_name_, std::string(port));
+}
+
 const std::vector<TeamMember>& Component::team() const {
   static const std::vector<TeamMember> none;
   return context_.team ? *context_.team : none;

@@ -106,6 +106,10 @@ class Component {
                         &active_);
   }
 
+  // The input `port` (already created) is one the component does without: a mission whose
+  // graph leaves it unconnected is not refused for it (scancrew run).
+  void mark_input_optional(std::string_view port);
+
   // The subscription lives as long as the component; null when the topic has another
   // type (configure() then fails with the reason).
   template <Message T>

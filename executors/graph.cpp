@@ -9,6 +9,11 @@ void Graph::record(EndpointInfo endpoint) {
   endpoints_.push_back(std::move(endpoint));
 }
 
+void Graph::mark_optional(const std::string& component, const std::string& port) {
+  std::lock_guard lock(mutex_);
+  optional_inputs_.emplace(component, port);
+}
+
 std::vector<EndpointInfo> Graph::endpoints() const {
   std::lock_guard lock(mutex_);
   return endpoints_;
@@ -50,9 +55,13 @@ GraphReport Graph::check() const {
   for (const EndpointInfo& e : endpoints_)
     (e.kind == EndpointInfo::Kind::kPublisher ? published : subscribed).insert(e.topic);
   for (const EndpointInfo& e : endpoints_) {
-    if (e.kind == EndpointInfo::Kind::kSubscription && !published.count(e.topic))
+    if (e.kind == EndpointInfo::Kind::kSubscription && !published.count(e.topic)) {
+      const bool optional = optional_inputs_.count({e.component, e.port}) > 0;
       report.warnings.push_back("unconnected input: " + e.component + "." + e.port + " reads '" +
-                                e.topic + "' (" + e.type_name + ") but nothing publishes it");
+                                e.topic + "' (" + e.type_name + ") but nothing publishes it" +
+                                (optional ? " (optional)" : ""));
+      if (!optional) report.unconnected_inputs.push_back(e);
+    }
     if (e.kind == EndpointInfo::Kind::kPublisher && !subscribed.count(e.topic))
       report.warnings.push_back("unread output: " + e.component + "." + e.port + " writes '" +
                                 e.topic + "' (" + e.type_name + ") but nothing subscribes");

@@ -11,6 +11,7 @@
 
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -33,6 +34,8 @@ struct EndpointInfo {
 struct GraphReport {
   std::vector<std::string> errors;    // type mismatches
   std::vector<std::string> warnings;  // inputs nobody publishes, outputs nobody reads
+  // the inputs nobody publishes (warned above), but those their component marks optional
+  std::vector<EndpointInfo> unconnected_inputs;
 };
 
 class Graph {
@@ -60,6 +63,8 @@ class Graph {
   }
 
   void record(EndpointInfo endpoint);
+  // An input its component does without (Component::mark_input_optional).
+  void mark_optional(const std::string& component, const std::string& port);
   std::vector<EndpointInfo> endpoints() const;
   std::vector<std::string> topic_names() const;  // in creation order
   std::shared_ptr<TopicBase> find(const std::string& name) const;
@@ -72,6 +77,7 @@ class Graph {
 
   std::shared_ptr<Clock> clock_;
   mutable std::mutex mutex_;
+  std::set<std::pair<std::string, std::string>> optional_inputs_;  // (component, port)
   std::unordered_map<std::string, std::shared_ptr<TopicBase>> topics_;
   std::vector<std::string> order_;
   std::vector<EndpointInfo> endpoints_;

@@ -164,8 +164,26 @@ class LaunchBuilder {
     uint64_t robots = 0;
     run.optional("robots", robots, {0, 1e6});
     s.robots = robots;
+    compute_time_.clear();  // unset: decided once the components are known
+    const YAML::Node run_node = root["run"];
+    if (run_node.IsDefined() && run_node.IsMap() && run_node["compute_time"].IsDefined()) {
+      compute_time_ = "charged";
+      run.choice("compute_time", compute_time_, {"charged", "free"});
+    }
+    run.optional("compute_scale", s.charge.scale, {1e-3, 1e3});
+    uint64_t cores = 2;
+    run.optional("place_cores", cores, {1, 1024});
+    s.charge.cores = static_cast<int>(cores);
     run.finish();
     merge(run);
+    if (compute_time_ == "charged" && s.executor != LaunchSettings::ExecutorType::kStep)
+      errors_.push_back(yaml_location(file_, root["run"]) +
+                        ": run.compute_time: 'charged' needs executor: {type: step} (sim time); "
+                        "on the wall clock compute takes real time anyway");
+    if (compute_time_ == "charged" && options_.process != "run")
+      errors_.push_back(yaml_location(file_, root["run"]) +
+                        ": run.compute_time: 'charged' is for one process (scancrew run); a team "
+                        "split over processes runs with compute free (docs/processes.md)");
   }
 
   // The robots: list, or its first N (LaunchOptions::robot_count, else run.robots).
@@ -375,7 +393,7 @@ class LaunchBuilder {
   }
 
   void compose(Launch& launch) {
-    const LaunchSettings& s = launch.settings_;
+    LaunchSettings& s = launch.settings_;
     if (s.clock == ClockType::kSim)
       launch.clock_ = std::make_shared<SimClock>();
     else
@@ -387,6 +405,7 @@ class LaunchBuilder {
     struct Pending {
       const ComponentSpec* spec;
       std::unique_ptr<Component> component;
+      std::string place;  // the computer it runs on; "" = the world (never charged)
     };
     std::vector<Pending> created;
     const auto team = std::make_shared<const std::vector<TeamMember>>(robots_);
@@ -431,7 +450,11 @@ class LaunchBuilder {
         }
         ParamReader params =
             make_param_reader(spec.params, file_, spec.path + ".params", std::move(names));
-        auto made = registry.find(spec.type)->factory(std::move(ctx), params);
+        const ComponentRegistry::Entry* entry = registry.find(spec.type);
+        // a per-robot component runs on its robot; the others on the ground station, but
+        // for the world's (the simulator, the mission's instruments)
+        std::string place = entry->world ? "" : spec.per_robot ? robot.ns : "station";
+        auto made = entry->factory(std::move(ctx), params);
         if (!made) {
           // the same parameters go to every robot: report them once
           if (!params_reported)
@@ -439,7 +462,7 @@ class LaunchBuilder {
           params_reported = true;
           continue;
         }
-        created.push_back({&spec, std::move(made).value()});
+        created.push_back({&spec, std::move(made).value(), std::move(place)});
       }
     }
     for (auto& [key, group] : groups) launch.groups_.push_back(group);
@@ -465,13 +488,34 @@ class LaunchBuilder {
     for (const std::string& e : launch.graph_->check().errors) errors_.push_back(file_ + ": " + e);
     if (!errors_.empty()) return;
 
-    for (auto& p : created) launch.components_.push_back(std::move(p.component));
     if (s.executor == LaunchSettings::ExecutorType::kStep) {
+      // a mission run in one process charges compute unless the file says otherwise
+      const bool mission = std::any_of(specs_.begin(), specs_.end(), [](const ComponentSpec& c) {
+        return c.type == "mission_monitor";
+      });
+      s.compute_time = compute_time_ == "charged" ||
+                               (compute_time_.empty() && mission && options_.process == "run")
+                           ? ComputeTime::kCharged
+                           : ComputeTime::kFree;
       launch.step_executor_ =
           std::make_unique<StepExecutor>(static_cast<SimClock&>(*launch.clock_));
-      for (auto& c : launch.components_)
-        for (Executable* e : c->executables()) launch.step_executor_->add(*e);
-    } else {
+      launch.step_executor_->set_compute_time(s.compute_time, s.charge);
+      std::map<std::string, int> places;
+      for (auto& p : created) {
+        int place = StepExecutor::kWorld;
+        if (!p.place.empty()) {
+          auto [it, added] = places.try_emplace(p.place, 0);
+          if (added) it->second = launch.step_executor_->add_place(p.place);
+          place = it->second;
+        }
+        for (Executable* e : p.component->executables()) launch.step_executor_->add(*e, place);
+      }
+    }
+    for (auto& p : created) {
+      if (p.place.empty()) launch.world_components_.insert(p.component->qualified_name());
+      launch.components_.push_back(std::move(p.component));
+    }
+    if (s.executor != LaunchSettings::ExecutorType::kStep) {
       launch.executor_ =
           std::make_unique<Executor>(s.threads, static_cast<int64_t>(s.spin_us * 1e3));
       for (auto& c : launch.components_)
@@ -483,6 +527,7 @@ class LaunchBuilder {
   LaunchOptions options_;
   std::vector<std::string> errors_;
   std::set<std::string> top_known_;
+  std::string compute_time_;  // run.compute_time as the file (or --set) gives it; "" unset
   std::vector<RobotSpec> robots_;
   std::vector<ComponentSpec> specs_;
 };

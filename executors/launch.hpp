@@ -16,6 +16,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,11 @@ struct LaunchSettings {
   double real_time_factor = 0.0;   // sim clock, threaded executor: 0 = as fast as possible
   double progress_period_s = 1.0;  // how often run() reports progress
   size_t robots = 0;  // run.robots: the first N robots of the robots: list run (0: all)
+  // step executor: whether callbacks take sim time (StepExecutor). run.compute_time:
+  // charged | free; unset: charged for a mission (a launch with a mission_monitor) run in one
+  // process, free otherwise. run.compute_scale, run.place_cores: the computers modelled.
+  ComputeTime compute_time = ComputeTime::kFree;
+  ComputeCharge charge;
 };
 
 // What the command line adds to a launch file.
@@ -135,6 +141,15 @@ class Launch {
   void enable_tracing(size_t max_events);
   // The tracer (null while tracing is off), for component_times() and write_chrome_trace().
   const Tracer* tracer() const { return tracer_.get(); }
+  // Whether the component (its qualified name) is the world's (the simulator, the mission's
+  // instruments: ComponentRegistry::Entry::world), not a robot's or the station's.
+  bool is_world(const std::string& qualified_name) const {
+    return world_components_.count(qualified_name) > 0;
+  }
+  // Step executor, compute charged: what each place (robot, station) computed; else empty.
+  std::vector<PlaceStats> place_stats() const {
+    return step_executor_ ? step_executor_->place_stats() : std::vector<PlaceStats>{};
+  }
 
  private:
   Launch() = default;
@@ -154,7 +169,8 @@ class Launch {
   std::function<bool()> stop_when_;
   StepGate* step_gate_ = nullptr;
   std::string out_dir_;
-  std::unique_ptr<Tracer> tracer_;  // the executor points to it; null: tracing off
+  std::unique_ptr<Tracer> tracer_;          // the executor points to it; null: tracing off
+  std::set<std::string> world_components_;  // qualified names
 
   friend class LaunchBuilder;
 };

@@ -9,9 +9,10 @@ ComponentRegistry& ComponentRegistry::instance() {
   return registry;
 }
 
-bool ComponentRegistry::add(const std::string& type, Factory factory, std::string description) {
+bool ComponentRegistry::add(const std::string& type, Factory factory, std::string description,
+                            bool world) {
   const bool inserted =
-      entries_.emplace(type, Entry{std::move(factory), std::move(description)}).second;
+      entries_.emplace(type, Entry{std::move(factory), std::move(description), world}).second;
   SCANCREW_CHECK(inserted, "two components registered under one name");
   return inserted;
 }

@@ -9,6 +9,10 @@
 //   struct Config { ... };                             // plain struct with defaults
 //   static Config read_config(ParamReader&);           // typed, validated parameters
 //   C(ComponentContext, Config);
+//   static constexpr bool kWorld = true;                // optional: not on any robot or
+//                                                       // station (the simulator, the
+//                                                       // mission's instruments): its
+//                                                       // compute is never charged
 // Thread safety: registration happens during static initialisation; lookups after main().
 
 #include <functional>
@@ -30,11 +34,12 @@ class ComponentRegistry {
   struct Entry {
     Factory factory;
     std::string description;
+    bool world = false;  // C::kWorld (StepExecutor, compute_time: charged)
   };
 
   static ComponentRegistry& instance();
 
-  bool add(const std::string& type, Factory factory, std::string description);
+  bool add(const std::string& type, Factory factory, std::string description, bool world = false);
   const Entry* find(const std::string& type) const;
   std::vector<std::string> types() const;
 
@@ -51,11 +56,20 @@ Result<std::unique_ptr<Component>, std::vector<std::string>> make_component(
   return std::unique_ptr<Component>(std::make_unique<C>(std::move(context), std::move(config)));
 }
 
+template <class C>
+constexpr bool is_world_component() {
+  if constexpr (requires { C::kWorld; })
+    return C::kWorld;
+  else
+    return false;
+}
+
 }  // namespace scancrew
 
 #define SCANCREW_REGISTER_COMPONENT(Class, type_name)                                              \
   namespace {                                                                                      \
   [[maybe_unused]] const bool scancrew_registered_##Class =                                        \
       ::scancrew::ComponentRegistry::instance().add(type_name, &::scancrew::make_component<Class>, \
-                                                    std::string(Class::kDescription));             \
+                                                    std::string(Class::kDescription),              \
+                                                    ::scancrew::is_world_component<Class>());      \
   }

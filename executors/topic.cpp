@@ -2,6 +2,22 @@
 
 namespace scancrew {
 
+namespace {
+thread_local PublishDeferral* t_deferral = nullptr;
+}  // namespace
+
+PublishDeferral* PublishDeferral::current() {
+  return t_deferral;
+}
+
+PublishDeferral::Scope::Scope(PublishDeferral* deferral) : previous_(t_deferral) {
+  t_deferral = deferral;
+}
+
+PublishDeferral::Scope::~Scope() {
+  t_deferral = previous_;
+}
+
 std::string_view to_string(LoanError error) {
   switch (error) {
     case LoanError::kPoolExhausted:

@@ -7,7 +7,9 @@
 // subscriber queue, each push taking one reference on the slot; then the publisher's
 // reference is dropped. Nothing is copied. Overflow follows each queue's History:
 // keep-last evicts the oldest entry (a counted drop), fail-fast rejects the publish for
-// everyone (counted, reported to the caller).
+// everyone (counted, reported to the caller). A publish on a thread with a PublishDeferral
+// installed is delivered later, when the deferral's owner says (a fail-fast rejection is
+// then counted but not reported to the publisher).
 //
 // Thread safety: every member function may be called from any thread. Lock order:
 // topic mutex, then pool mutex, then an executor's wake mutex.
@@ -57,6 +59,32 @@ struct TopicStats {
   uint64_t latency_p50_ns = 0, latency_p99_ns = 0, latency_max_ns = 0;  // publish -> callback
 };
 
+// PublishDeferral: while one is installed on a thread (Scope), what that thread publishes is
+// not delivered: the topic hands the published slot (with the publisher's reference) to
+// defer(), and whoever installed it calls TopicBase::deliver() later, or discard(). The step
+// executor uses it to make a charged callback's outputs appear when its compute is over
+// (StepExecutor, compute_time: charged). Thread safety: per thread; defer() is called on
+// the installing thread.
+class TopicBase;
+class PublishDeferral {
+ public:
+  virtual ~PublishDeferral() = default;
+  virtual void defer(TopicBase& topic, uint32_t index) = 0;
+  // The deferral installed on the calling thread, or null.
+  static PublishDeferral* current();
+
+  class Scope {
+   public:
+    explicit Scope(PublishDeferral* deferral);
+    ~Scope();
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    PublishDeferral* previous_;
+  };
+};
+
 class TopicBase {
  public:
   TopicBase(std::string name, std::string_view type_name, const void* type_tag)
@@ -69,6 +97,10 @@ class TopicBase {
   const std::string& type_name() const { return type_name_; }
   const void* type_tag() const { return type_tag_; }
   virtual TopicStats stats() const = 0;
+  // A deferred publish (PublishDeferral): delivers the slot to the queues attached now, or
+  // drops it; either consumes the reference defer() was given.
+  virtual void deliver(uint32_t index) = 0;
+  virtual void discard(uint32_t index) = 0;
 
  protected:
   void note_publish(int64_t mono_ns) {
@@ -120,27 +152,16 @@ class Topic final : public TopicBase {
     }
     const uint32_t index = loan.release_to_publish();
     note_publish(pool_.at(index).header.publish_mono_ns);
-    std::lock_guard lock(mutex_);
-    for (SubscriberQueue* q : queues_) {
-      if (q->qos().history == History::kFailFast && q->full()) {
-        rejected_.fetch_add(1, std::memory_order_relaxed);
-        pool_.release(index);
-        return make_unexpected(PublishError::kQueueFull);
-      }
+    if (PublishDeferral* deferral = PublishDeferral::current()) {
+      deferral->defer(*this, index);
+      std::lock_guard lock(mutex_);
+      return queues_.size();
     }
-    for (SubscriberQueue* q : queues_) {
-      if (q->full()) {
-        pool_.release(q->pop());
-        q->dropped.fetch_add(1, std::memory_order_relaxed);
-      }
-      pool_.retain(index);
-      q->push(index);
-      q->received.fetch_add(1, std::memory_order_relaxed);
-    }
-    pool_.release(index);
-    for (SubscriberQueue* q : queues_) q->wake();
-    return queues_.size();
+    return deliver_now(index);
   }
+
+  void deliver(uint32_t index) override { (void)deliver_now(index); }
+  void discard(uint32_t index) override { pool_.release(index); }
 
   // Takes the oldest sample of a queue, if any; the Sample adopts the queue's reference.
   Sample<T> take(SubscriberQueue& queue) {
@@ -181,6 +202,30 @@ class Topic final : public TopicBase {
   }
 
  private:
+  // The publisher's reference on `index` is consumed.
+  Result<size_t, PublishError> deliver_now(uint32_t index) {
+    std::lock_guard lock(mutex_);
+    for (SubscriberQueue* q : queues_) {
+      if (q->qos().history == History::kFailFast && q->full()) {
+        rejected_.fetch_add(1, std::memory_order_relaxed);
+        pool_.release(index);
+        return make_unexpected(PublishError::kQueueFull);
+      }
+    }
+    for (SubscriberQueue* q : queues_) {
+      if (q->full()) {
+        pool_.release(q->pop());
+        q->dropped.fetch_add(1, std::memory_order_relaxed);
+      }
+      pool_.retain(index);
+      q->push(index);
+      q->received.fetch_add(1, std::memory_order_relaxed);
+    }
+    pool_.release(index);
+    for (SubscriberQueue* q : queues_) q->wake();
+    return queues_.size();
+  }
+
   SamplePool<T> pool_;
   mutable std::mutex mutex_;
   std::vector<SubscriberQueue*> queues_;

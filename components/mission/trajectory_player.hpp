@@ -30,6 +30,8 @@ namespace scancrew::components {
 
 class TrajectoryPlayer final : public Component {
  public:
+  // not on a robot or the station: never charged compute (StepExecutor)
+  static constexpr bool kWorld = true;
   static constexpr std::string_view kDescription =
       "takes the robot along a recorded mission's paths.csv in time, through the tracker";
   struct Config {

@@ -28,6 +28,8 @@ namespace scancrew::recorder {
 
 class Replay final : public Component {
  public:
+  // not on a robot or the station: never charged compute (StepExecutor)
+  static constexpr bool kWorld = true;
   static constexpr std::string_view kDescription =
       "the replay backend: plays a .sclog recording on its recorded topics";
   struct Config {

@@ -28,6 +28,8 @@ namespace scancrew::components {
 
 class TeamSimulator final : public Component {
  public:
+  // not on a robot or the station: never charged compute (StepExecutor)
+  static constexpr bool kWorld = true;
   static constexpr std::string_view kDescription =
       "MuJoCo team simulator: stereo, depth, IMU and pose for every robot; reads cmd_vel (the sim "
       "backend)";
