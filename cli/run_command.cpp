@@ -20,10 +20,12 @@
 #include "components/tsdf/tsdf_mapper.hpp"
 #include "eval/ply_mesh.hpp"
 #include "eval/reconstruction_error.hpp"
+#include "eval/team_reachable.hpp"
 #include "executors/launch.hpp"
 #include "executors/trace.hpp"
 #include "mission/run_files.hpp"
 #include "mission/run_report.hpp"
+#include "mission/time_breakdown.hpp"
 #include "sim/mesh_io.hpp"
 #include "sim/scene.hpp"
 #include "sim/surface_sampler.hpp"
@@ -96,6 +98,7 @@ struct MeshScore {
   double voxel_m = 0;
   double e_max_m = 0;  // the evaluation's
   std::optional<eval::ReconstructionError> error;
+  double coverage_reachable = NAN;  // of the points the team can observe
 };
 
 // The voxel size of an OctoMap binary file (its text header's "res" line); 0 if unreadable.
@@ -182,6 +185,12 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
     std::fprintf(stderr, "scancrew run: evaluation: %s\n", truth.error().c_str());
     return scores;
   }
+  // the points the team's robot kinds can observe from their starts (docs/evaluation.md)
+  auto observable =
+      eval::team_observable(*scene, *meshes, truth->points, truth->normals, monitor.team_starts());
+  if (!observable)
+    std::fprintf(stderr, "scancrew run: evaluation: reachable ground truth: %s\n",
+                 observable.error().c_str());
   for (MeshScore& s : scores) {
     if (s.mesh_path.empty()) continue;
     const auto mesh = eval::read_ply_mesh(s.mesh_path);
@@ -191,8 +200,16 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
     }
     s.e_max_m = monitor.config().eval_e_max_m > 0 ? monitor.config().eval_e_max_m
                                                   : eval::max_error_for_voxel(s.voxel_m);
-    auto r =
-        eval::reconstruction_error(*mesh, truth->points, truth->normals, {.e_max_m = s.e_max_m});
+    auto r = eval::reconstruction_error(*mesh, truth->points, truth->normals,
+                                        {.e_max_m = s.e_max_m, .per_point_error = true});
+    if (r && observable) {
+      std::vector<uint8_t> covered(r->point_error_m.size());
+      for (size_t i = 0; i < covered.size(); ++i)
+        covered[i] = std::isnan(r->point_error_m[i]) ? 0 : 1;
+      const double share = eval::share_of_observable(*observable, covered);
+      s.coverage_reachable = share >= 0 ? share : NAN;
+      r->point_error_m = {};  // 4 bytes a point: not kept
+    }
     if (r)
       s.error = std::move(r).value();
     else
@@ -200,6 +217,63 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
                    r.error().c_str());
   }
   return scores;
+}
+
+// x per goal reached; null without a goal reached.
+Json per_goal(double x, uint64_t goals) {
+  return goals > 0 ? Json(x / static_cast<double>(goals)) : Json(nullptr);
+}
+
+// Where the team's time went and how fast it covered the scene (docs/missions.md, "Where the
+// time goes"): the mean share of each activity over the robots, plan churn (tours per goal
+// reached), metres per goal, coverage per metre and per minute, the times to 50 / 90 / 95 %
+// coverage (the monitor's estimate), and what each place computed.
+void add_exploration_metrics(Json& m, const Launch& launch, const MissionMonitor& monitor,
+                             const std::map<uint32_t, const low_level::LowLevelPlanner*>& planners,
+                             double sim_s) {
+  const auto robots = monitor.robots();
+  Json share = Json::object();
+  for (size_t a = 0; a < mission::kActivityCount; ++a) {
+    double sum = 0;
+    for (const auto& r : robots) sum += r.time.total() > 0 ? r.time.seconds[a] / r.time.total() : 0;
+    share[std::string(mission::to_string(static_cast<mission::Activity>(a)))] =
+        robots.empty() ? 0.0 : sum / static_cast<double>(robots.size());
+  }
+  m["idle_share"] = share["idle_open"].get<double>() + share["idle_done"].get<double>();
+  m["time_share"] = std::move(share);
+  uint64_t tours = 0, goals = 0;
+  for (const auto& [id, p] : planners) {
+    tours += p->stats().tours;
+    goals += p->stats().goals_reached;
+  }
+  double path_m = 0;
+  for (const auto& r : robots) path_m += r.path_length_m;
+  m["goals_reached"] = goals;
+  m["tours_per_goal"] = per_goal(static_cast<double>(tours), goals);
+  m["m_per_goal"] = per_goal(path_m, goals);
+  const double coverage = m["coverage"].is_number() ? m["coverage"].get<double>() : NAN;
+  m["coverage_per_m"] = number_or_null(path_m > 0 ? coverage / path_m : NAN);
+  m["coverage_per_min"] = number_or_null(sim_s > 0 ? coverage / (sim_s / 60.0) : NAN);
+  const auto samples = monitor.coverage();
+  for (const bool reachable : {false, true}) {
+    Json times = Json::object();
+    for (const double share_of : {0.5, 0.9, 0.95}) {
+      const auto t = mission::time_to_coverage(samples, share_of, reachable);
+      times[std::to_string(std::lround(100 * share_of))] = t ? Json(*t) : Json(nullptr);
+    }
+    m[reachable ? "time_to_coverage_reachable_s" : "time_to_coverage_s"] = std::move(times);
+  }
+  m["compute_time"] = std::string(to_string(launch.settings().compute_time));
+  m["compute_scale"] = launch.settings().charge.scale;
+  m["place_cores"] = launch.settings().charge.cores;
+  Json places = Json::array();
+  for (const PlaceStats& p : launch.place_stats())
+    places.push_back({{"place", p.name},
+                      {"callbacks", p.callbacks},
+                      {"busy_s", p.charged_s},
+                      {"busy_share", number_or_null(sim_s > 0 ? p.charged_s / sim_s : NAN)},
+                      {"max_callback_ms", p.max_callback_ms}});
+  m["places"] = std::move(places);
 }
 
 bool copy_into(const std::string& from, const fs::path& to) {
@@ -280,6 +354,7 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   const eval::ReconstructionError* e = best && best->error ? &*best->error : nullptr;
   m["mesh_from"] = best ? Json(best->from) : Json(nullptr);
   m["coverage"] = number_or_null(e ? e->coverage : nan);
+  m["coverage_reachable"] = number_or_null(e ? best->coverage_reachable : nan);
   m["mean_error_m"] = number_or_null(e ? e->mean_error_m : nan);
   m["std_error_m"] = number_or_null(e ? e->std_error_m : nan);
   m["rmse_m"] = number_or_null(e ? e->rmse_m : nan);
@@ -293,6 +368,7 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
                       {"voxel_m", s.voxel_m},
                       {"e_max_m", number_or_null(se ? s.e_max_m : nan)},
                       {"coverage", number_or_null(se ? se->coverage : nan)},
+                      {"coverage_reachable", number_or_null(se ? s.coverage_reachable : nan)},
                       {"rmse_m", number_or_null(se ? se->rmse_m : nan)}});
   }
   m["meshes"] = std::move(meshes);
@@ -329,12 +405,23 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
     for (const MeshScore& s : scores)
       if (s.robot_ns == r.ns && s.error && represents_place(s)) coverage = s.error->coverage;
     j["coverage"] = number_or_null(coverage);
-    if (p != planners.end()) j["goals_reached"] = p->second->stats().goals_reached;
+    if (p != planners.end()) {
+      const auto& st = p->second->stats();
+      j["goals_reached"] = st.goals_reached;
+      j["tours"] = st.tours;
+      j["tours_per_goal"] = per_goal(static_cast<double>(st.tours), st.goals_reached);
+      j["m_per_goal"] = per_goal(r.path_length_m, st.goals_reached);
+    }
+    Json time = Json::object();
+    for (size_t a = 0; a < mission::kActivityCount; ++a)
+      time[std::string(mission::to_string(static_cast<mission::Activity>(a)))] = r.time.seconds[a];
+    j["time_s"] = std::move(time);
     j["ises_left"] = r.ises_left;
     j["state"] = r.have_state ? std::string(msg::to_string(r.mode)) : "starting";
     robots.push_back(std::move(j));
   }
   m["total_path_length_m"] = total_length;
+  add_exploration_metrics(m, launch, monitor, planners, run.sim_s);
   // distributed: the completed patches the robots sent (their wire size). Centralized: the
   // depth images and poses to the station, which an in-process run does not serialise, so
   // not measured here (null), rather than a 0 that would read as "nothing sent".
@@ -375,6 +462,8 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
                                                        : "out of time";
   std::printf("mission %s after %.1f s simulated (%.1f s wall)", how, run.sim_s, run.wall_s);
   if (e) std::printf("; coverage %.2f %% (map of %s)", 100 * e->coverage, best->from.c_str());
+  if (e && std::isfinite(best->coverage_reachable))
+    std::printf(", %.2f %% of the reachable surface", 100 * best->coverage_reachable);
   std::printf("; contacts robot-scene %llu robot-robot %llu\n",
               static_cast<unsigned long long>(robot_scene),
               static_cast<unsigned long long>(robot_robot));
@@ -397,10 +486,32 @@ int run_launch(const RunOptions& o) {
     return 2;
   }
   auto launch = std::move(composed).value();
-  for (const auto& w : launch->report().warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  const MissionMonitor* monitor = launch->find_component<MissionMonitor>();
+  MissionMonitor* monitor = launch->find_component<MissionMonitor>();
+  // a mission whose robot or station has an input nothing feeds would run blind (a mapper
+  // reading a depth topic nobody publishes completed at once): refused, as a bad launch file
+  // is. The world's components (the monitor, a replay) only watch: a warning for them. One
+  // process of a team split over processes gets its other inputs over DDS: not checked.
+  const GraphReport graph_report = launch->report();
+  std::vector<std::string> unconnected;
+  for (const EndpointInfo& e : graph_report.unconnected_inputs)
+    if (monitor != nullptr && o.process == "run" && !launch->is_world(e.component))
+      unconnected.push_back("unconnected input: " + e.component + "." + e.port + " reads '" +
+                            e.topic + "' (" + e.type_name + ") but nothing publishes it");
+  for (const auto& w : graph_report.warnings)
+    if (std::find(unconnected.begin(), unconnected.end(), w) == unconnected.end())
+      std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (!unconnected.empty()) {
+    std::fprintf(stderr,
+                 "scancrew: %s: %zu error(s): a mission's components must have every input "
+                 "connected; nothing was started\n",
+                 o.launch_path.c_str(), unconnected.size());
+    for (const auto& e : unconnected) std::fprintf(stderr, "  %s\n", e.c_str());
+    return 2;
+  }
   const fs::path out = launch->out_dir();
   if (monitor != nullptr) {
+    // one process of a split team sees no maps of the others: it cannot tell
+    monitor->set_depth_required(o.process == "run");
     std::error_code ec;
     fs::create_directories(out, ec);
     if (ec) {
@@ -458,6 +569,7 @@ int run_launch(const RunOptions& o) {
     return 0;
   }
   print_mission_progress(*monitor, run.sim_s, launch->settings().duration_s, run.wall_s, true);
+  monitor->close_time_breakdown();
   run.stop_reason = monitor->finished() ? monitor->stop_reason()
                     : interrupted       ? "interrupted"
                                         : "time_budget";
@@ -466,7 +578,20 @@ int run_launch(const RunOptions& o) {
     print_topic_stats(f, launch->graph());
     std::fclose(f);
   }
-  return write_run_directory(*launch, *monitor, run, out) ? 0 : 1;
+  if (!write_run_directory(*launch, *monitor, run, out)) return 1;
+  // a robot whose depth never reached a map saw nothing: the graph is miswired
+  if (const auto blind = monitor->robots_without_depth(); !blind.empty()) {
+    std::string names;
+    for (const auto& n : blind) names += (names.empty() ? "" : ", ") + n;
+    std::fprintf(stderr,
+                 "scancrew run: %s: configuration error: no map integrated a depth image of %s "
+                 "(is the mapper's depth_topic published for that robot? scancrew graph %s)\n",
+                 o.launch_path.c_str(), names.c_str(), o.launch_path.c_str());
+    return 2;
+  }
+  // docs/missions.md, "Exit status"
+  if (run.stop_reason == "complete") return 0;
+  return interrupted ? 130 : 3;
 }
 
 }  // namespace scancrew::cli

@@ -1,18 +1,16 @@
 #include "cli/sweep_command.hpp"
 
-#include <sys/prctl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
 
+#include "cli/child_process.hpp"
 #include "cli/sweep_table.hpp"
 #include "executors/params_impl.hpp"
 
@@ -135,37 +133,14 @@ bool write_file(const fs::path& path, const std::string& text) {
   return static_cast<bool>(file);
 }
 
-// Runs `scancrew run ARGS` (this executable) as a child process and returns its exit status
-// (128 + the signal if one ended it). A process of its own per run, as a run on its own is:
-// in one process, state of a run outlives it (OMPL takes its seed once per process, so every
-// run after the first would ignore low_level.planner_seed and depend on the runs before it).
+// Runs `scancrew run ARGS` in a child process (cli/child_process.hpp); its exit status.
 int run_in_child(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  argv.reserve(args.size() + 1);
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  std::fflush(stdout);
-  std::fflush(stderr);
-  const pid_t parent = getpid();
-  const pid_t pid = fork();
-  if (pid < 0) {
-    std::perror("scancrew sweep: fork");
-    return 127;
-  }
-  if (pid == 0) {
-    // the run ends with the sweep (killed, or crashed)
-    prctl(PR_SET_PDEATHSIG, SIGTERM);
-    if (getppid() != parent) _exit(127);
-    execv("/proc/self/exe", argv.data());
-    _exit(127);
-  }
+  const pid_t pid = start_child(args);
+  if (pid < 0) return 127;
   g_child = pid;
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
+  const int status = wait_child(pid);
   g_child = 0;
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 127;
+  return status;
 }
 
 // Runs one mission and reads its metrics.json.
@@ -201,7 +176,8 @@ SweepRun run_one(const PlannedRun& p, const SweepOptions& o, const std::vector<s
   } else {
     run.error = metrics.string() + ": not written";
   }
-  if (status != 0) {
+  // 3: the mission ran and wrote its results, out of time or stalled (not a failure here)
+  if (status != 0 && status != 3) {
     run.stop_reason = "failed";
     run.error = "scancrew run exited with status " + std::to_string(status) +
                 (status == 2    ? " (the launch was refused; see above)"

@@ -123,6 +123,13 @@ Result<SweepRun, std::string> read_sweep_metrics(std::string_view json_text, Swe
   run.data_exchanged_bytes = number_at(j, "data_exchanged_bytes");
   run.collisions = count_at(j, "collisions");
   run.replans = count_at(j, "replans");
+  run.coverage_reachable = number_at(j, "coverage_reachable");
+  run.idle_share = number_at(j, "idle_share");
+  run.tours_per_goal = number_at(j, "tours_per_goal");
+  if (const auto t = j.find("time_to_coverage_reachable_s"); t != j.end() && t->is_object())
+    run.time_to_95_reachable_s = number_at(*t, "95");
+  if (const auto c = j.find("compute_time"); c != j.end() && c->is_string())
+    run.compute_time = c->get<std::string>();
   return run;
 }
 
@@ -157,7 +164,7 @@ std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
     if (!r.scene.empty()) scene_of_arch.emplace(r.arch, r.scene);
 
   struct Values {
-    std::vector<double> time, coverage, rmse, path, data;
+    std::vector<double> time, coverage, rmse, path, data, reachable, idle;
   };
   std::vector<SweepRow> rows;
   std::vector<Values> values;
@@ -197,6 +204,8 @@ std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
       v.rmse.push_back(1000.0 * r.rmse_m);
       v.path.push_back(r.total_path_length_m);
       v.data.push_back(r.data_exchanged_bytes / 1e6);
+      v.reachable.push_back(100.0 * r.coverage_reachable);
+      v.idle.push_back(100.0 * r.idle_share);
       row.collisions += r.collisions;
     }
   }
@@ -206,6 +215,8 @@ std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
     rows[i].rmse_mm = mean_std(values[i].rmse);
     rows[i].path_m = mean_std(values[i].path);
     rows[i].data_mb = mean_std(values[i].data);
+    rows[i].coverage_reachable_pct = mean_std(values[i].reachable);
+    rows[i].idle_pct = mean_std(values[i].idle);
   }
   return rows;
 }
@@ -234,7 +245,8 @@ std::string format_mean_std(const MeanStd& value, int decimals) {
 std::string format_sweep_csv(const std::vector<SweepRun>& runs) {
   std::string csv =
       "arch,robots,seed,stop_reason,completion_time_s,sim_time_s,wall_time_s,coverage,"
-      "mean_error_m,rmse_m,total_path_length_m,data_exchanged_bytes,collisions,replans,scene,"
+      "mean_error_m,rmse_m,total_path_length_m,data_exchanged_bytes,collisions,replans,"
+      "coverage_reachable,idle_share,time_to_95_reachable_s,tours_per_goal,compute_time,scene,"
       "run_dir,error\n";
   for (const SweepRun& r : runs) {
     const bool measured = outcome_of(r) != RunOutcome::kFailed;
@@ -253,6 +265,11 @@ std::string format_sweep_csv(const std::vector<SweepRun>& runs) {
         csv_number(r.data_exchanged_bytes),
         measured ? std::to_string(r.collisions) : "",
         measured ? std::to_string(r.replans) : "",
+        csv_number(r.coverage_reachable),
+        csv_number(r.idle_share),
+        csv_number(r.time_to_95_reachable_s),
+        csv_number(r.tours_per_goal),
+        csv_field(r.compute_time),
         csv_field(r.scene),
         csv_field(r.run_dir),
         csv_field(r.error),
@@ -275,8 +292,9 @@ std::string format_sweep_markdown(const std::vector<SweepRun>& runs, const std::
     md += "\n\n";
     md +=
         "| architecture | robots | completed / runs | time (s) | time vs 1 robot | "
-        "coverage (%) | RMSE (mm) | total path (m) | data exchanged (MB) | collisions |\n";
-    md += "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+        "coverage (%) | reachable (%) | RMSE (mm) | total path (m) | data exchanged (MB) | "
+        "idle (%) | collisions |\n";
+    md += "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     bool lower_bound = false, left_out = false;
     for (const SweepRow& row : rows) {
       if (row.scene != scene) continue;
@@ -290,14 +308,18 @@ std::string format_sweep_markdown(const std::vector<SweepRun>& runs, const std::
           (row.time_is_lower_bound ? "≥ " : "") + format_mean_std(row.time_s, 1);
       md += "| " + md_cell(row.arch) + " | " + std::to_string(row.robots) + " | " + runs_cell(row) +
             " | " + time + " | " + ratio + " | " + format_mean_std(row.coverage_pct, 2) + " | " +
+            format_mean_std(row.coverage_reachable_pct, 2) + " | " +
             format_mean_std(row.rmse_mm, 1) + " | " + format_mean_std(row.path_m, 1) + " | " +
-            format_mean_std(row.data_mb, 2) + " | " + std::to_string(row.collisions) + " |\n";
+            format_mean_std(row.data_mb, 2) + " | " + format_mean_std(row.idle_pct, 0) + " | " +
+            std::to_string(row.collisions) + " |\n";
     }
     md +=
         "\nMean ± standard deviation (n − 1) over the seeds; time: the simulated time at which "
         "the mission completed. Time vs 1 robot: the row's mean time in % of the single "
         "robot's (ref.; without a single-architecture row, the same architecture's with 1 "
-        "robot). Collisions: robot-scene and robot-robot contacts, summed over the runs.\n";
+        "robot). Reachable: coverage of the surface the team's robot kinds can observe "
+        "(docs/evaluation.md). Idle: the robots' mean share of the mission idle (ISEs open or "
+        "done). Collisions: robot-scene and robot-robot contacts, summed over the runs.\n";
     if (lower_bound)
       md +=
           "\n≥: a run of the row did not complete (time budget or stall); its simulated time "

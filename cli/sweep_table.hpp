@@ -40,6 +40,12 @@ struct SweepRun {
   double data_exchanged_bytes = kNoValue;
   uint64_t collisions = 0;
   uint64_t replans = 0;
+  // Step 10's exploration measures (docs/missions.md, "Where the time goes")
+  double coverage_reachable = kNoValue;  // in [0, 1], of the surface the robots can observe
+  double idle_share = kNoValue;          // mean over the robots, in [0, 1]
+  double time_to_95_reachable_s = kNoValue;
+  double tours_per_goal = kNoValue;
+  std::string compute_time;  // charged | free
 };
 
 // `run` with the metrics of a metrics.json text filled in (stop_reason, scene, times,
@@ -74,6 +80,7 @@ struct SweepRow {
   MeanStd time_s;                    // completion time, or simulated time of incomplete runs
   bool time_is_lower_bound = false;  // an incomplete run is in time_s
   MeanStd coverage_pct, rmse_mm, path_m, data_mb;
+  MeanStd coverage_reachable_pct, idle_pct;
   uint64_t collisions = 0;  // summed over the runs
 };
 

@@ -20,7 +20,8 @@ namespace scancrew::msg {
 // Version of the binary layout of every message (recordings, inter-robot links). A reader
 // refuses data of another version.
 // 2: TsdfPatch carries the compact patch payload instead of a dense voxel array.
-inline constexpr uint32_t kMessageFormatVersion = 4;
+// 5: RobotState says whether the robot backs off and which teammate holds it.
+inline constexpr uint32_t kMessageFormatVersion = 5;
 
 // The binding names only label the members; their order is the declaration order.
 #define SCANCREW_MESSAGE_FIELDS(Type, ...)      \
@@ -56,7 +57,8 @@ SCANCREW_MESSAGE_FIELDS(TeamPlan, header, plan_id, map_version, sequences, unass
 SCANCREW_MESSAGE_FIELDS(VelocityCommand, header, linear_mps, yaw_rate_radps)
 SCANCREW_MESSAGE_FIELDS(Maneuver, header, kind, aside, because_of_robot)
 SCANCREW_MESSAGE_FIELDS(RobotState, header, T_world_body, velocity_mps, mode, plan_id,
-                        current_cluster, path_index, steps_remaining, path_length_m)
+                        current_cluster, path_index, steps_remaining, path_length_m, backing_off,
+                        held_by_robot)
 SCANCREW_MESSAGE_FIELDS(MissionStatus, header, phase, ise_remaining, coverage_estimate, elapsed_s)
 SCANCREW_MESSAGE_FIELDS(StepMark, robot_id, topic_key, seq)
 SCANCREW_MESSAGE_FIELDS(StepSync, header, t_ns, stop, marks)

@@ -99,6 +99,10 @@ struct RobotState {
   uint32_t path_index = 0;       // progress: index of the next waypoint / viewpoint
   uint32_t steps_remaining = 0;  // waypoints / viewpoints left
   double path_length_m = 0;      // travelled so far
+  // what holds the robot, beside its mode (the mission's time breakdown): a back-off path
+  // (mode kMoving), or a teammate the traffic policy yields to (kWaiting, kSteppingAside)
+  bool backing_off = false;
+  uint32_t held_by_robot = 0;  // 0: none
 };
 
 inline const char* to_string(RobotState::Mode mode) {

@@ -13,7 +13,7 @@ namespace scancrew::mission {
 namespace {
 
 constexpr const char* kPathsHeader = "t_s,robot_id,x_m,y_m,z_m,yaw_rad";
-constexpr const char* kCoverageHeader = "t_s,robot_id,coverage,ises_left";
+constexpr const char* kCoverageHeader = "t_s,robot_id,coverage,coverage_reachable,ises_left";
 
 struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
@@ -159,8 +159,8 @@ Result<void, std::string> write_paths_csv(const std::string& path,
 Result<void, std::string> write_coverage_csv(const std::string& path,
                                              const std::vector<CoverageSample>& samples) {
   return write_csv(path, kCoverageHeader, samples, [](std::FILE* f, const CoverageSample& s) {
-    std::fprintf(f, "%.3f,%u,%.5f,%llu\n", s.t_s, static_cast<unsigned>(s.robot_id), s.coverage,
-                 static_cast<unsigned long long>(s.ises_left));
+    std::fprintf(f, "%.3f,%u,%.5f,%.5f,%llu\n", s.t_s, static_cast<unsigned>(s.robot_id),
+                 s.coverage, s.coverage_reachable, static_cast<unsigned long long>(s.ises_left));
   });
 }
 
@@ -184,9 +184,23 @@ Result<std::vector<CoverageSample>, std::string> read_coverage_csv(const std::st
     s.robot_id = static_cast<uint32_t>(f.integer(1, std::numeric_limits<uint32_t>::max()));
     s.coverage = f.real(2);
     if (f.error().empty() && (s.coverage < 0 || s.coverage > 1)) f.fail(2, "is not in [0, 1]");
-    s.ises_left = f.integer(3, std::numeric_limits<uint64_t>::max());
+    s.coverage_reachable = f.real(3);
+    if (f.error().empty() && s.coverage_reachable != -1 &&
+        (s.coverage_reachable < 0 || s.coverage_reachable > 1))
+      f.fail(3, "is not in [0, 1] (nor -1: not measured)");
+    s.ises_left = f.integer(4, std::numeric_limits<uint64_t>::max());
     return s;
   });
+}
+
+std::optional<double> time_to_coverage(const std::vector<CoverageSample>& samples, double share,
+                                       bool reachable) {
+  // samples are in time order; every robot measured at one tick shares its t_s
+  for (const CoverageSample& s : samples) {
+    const double c = reachable ? s.coverage_reachable : s.coverage;
+    if (c >= share) return s.t_s;
+  }
+  return std::nullopt;
 }
 
 }  // namespace scancrew::mission

@@ -13,6 +13,7 @@
 #include "eval/ply_mesh.hpp"
 #include "mission/plots.hpp"
 #include "mission/run_files.hpp"
+#include "mission/time_breakdown.hpp"
 
 namespace scancrew::mission {
 namespace {
@@ -93,6 +94,8 @@ figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}
 figcaption{color:#555;font-size:.9em}
 .note{background:#fff6e0;border-left:4px solid #e0a000;padding:.4em .8em}
 code{background:#f4f4f4;padding:0 .25em}
+.bar{display:flex;width:420px;height:1.1em;border:1px solid #ccc}.bar span{height:100%}
+.small{font-size:.8em;color:#555}.legend{font-size:.9em}
 )";
 
 struct Row {
@@ -125,6 +128,15 @@ constexpr Row kSummary[] = {
     {"Contacts robot-robot", "robot_robot", Format::kInteger, "contacts"},
     {"Contacts robot-scene", "robot_scene", Format::kInteger, "contacts"},
     {"Replans", "replans", Format::kInteger},
+    {"Compute time", "compute_time", Format::kText},
+    {"Coverage of the reachable surface (%)", "coverage_reachable", Format::kPercent},
+    {"Time to 90 % coverage (s)", "90", Format::kFixed1, "time_to_coverage_s"},
+    {"Time to 95 % coverage (s)", "95", Format::kFixed1, "time_to_coverage_s"},
+    {"Time to 90 % of the reachable (s)", "90", Format::kFixed1, "time_to_coverage_reachable_s"},
+    {"Time to 95 % of the reachable (s)", "95", Format::kFixed1, "time_to_coverage_reachable_s"},
+    {"Idle share (%)", "idle_share", Format::kPercent},
+    {"Tours per goal reached", "tours_per_goal", Format::kFixed2},
+    {"Metres per goal reached", "m_per_goal", Format::kFixed2},
 };
 
 constexpr Row kRobotColumns[] = {
@@ -184,6 +196,52 @@ void robot_table(std::ostream& out, const Json& metrics,
       out << "<td" << (is_numeric(c.format) ? " class=\"n\"" : "") << ">"
           << cell(robot, c.key, c.format) << "</td>";
     out << "<td class=\"n\">" << ises << "</td></tr>\n";
+  }
+  out << "</table>\n";
+}
+
+// Per robot, a bar split by where its mission time went (metrics' robots[].time_s).
+void time_bars(std::ostream& out, const Json& metrics) {
+  out << "<h2>Where the time goes</h2>\n";
+  const Json* robots = metrics.contains("robots") ? &metrics.at("robots") : nullptr;
+  bool any = false;
+  if (robots != nullptr && robots->is_array())
+    for (const Json& r : *robots) any = any || (r.is_object() && r.contains("time_s"));
+  if (!any) {
+    out << "<p>" << kMissing << " (no time breakdown in metrics.json)</p>\n";
+    return;
+  }
+  // one colour per activity, in mission::Activity's order
+  static constexpr std::array<const char*, mission::kActivityCount> kColours = {
+      "#4e79a7", "#76b7b2", "#f28e2b", "#e15759", "#b07aa1", "#edc948", "#59a14f", "#9c755f"};
+  out << "<p class=\"legend\">";
+  for (size_t a = 0; a < mission::kActivityCount; ++a)
+    out << "<span class=\"sw\" style=\"background:" << kColours[a] << "\"></span>"
+        << html_escape(std::string(mission::label(static_cast<mission::Activity>(a)))) << " ";
+  out << "</p>\n<table class=\"bars\">\n";
+  for (const Json& r : *robots) {
+    if (!r.is_object() || !r.contains("time_s") || !r.at("time_s").is_object()) continue;
+    const Json& t = r.at("time_s");
+    double total = 0;
+    for (const auto& [k, v] : t.items()) total += v.is_number() ? v.get<double>() : 0;
+    out << "<tr><th>" << html_escape(cell(r, "namespace", Format::kText)) << "</th><td>"
+        << "<div class=\"bar\">";
+    std::string title;
+    for (size_t a = 0; a < mission::kActivityCount; ++a) {
+      const auto activity = static_cast<mission::Activity>(a);
+      const std::string key(mission::to_string(activity));
+      const double v = t.contains(key) && t.at(key).is_number() ? t.at(key).get<double>() : 0;
+      if (total <= 0 || v <= 0) continue;
+      char pct[32];
+      std::snprintf(pct, sizeof pct, "%.2f", 100 * v / total);
+      char what[96];
+      std::snprintf(what, sizeof what, "%s: %.1f s (%.0f %%)",
+                    std::string(mission::label(activity)).c_str(), v, 100 * v / total);
+      out << "<span style=\"width:" << pct << "%;background:" << kColours[a] << "\" title=\""
+          << html_escape(what) << "\"></span>";
+      title += (title.empty() ? "" : ", ") + std::string(what);
+    }
+    out << "</div></td><td class=\"small\">" << html_escape(title) << "</td></tr>\n";
   }
   out << "</table>\n";
 }
@@ -382,6 +440,7 @@ Result<void, std::string> write_report(const std::string& run_dir) {
           "in its map."
           "</figcaption></figure>\n";
   robot_table(html, metrics, last_ises);
+  time_bars(html, metrics);
   compute_table(html, metrics);
   file_table(html, dir);
   html << "</body>\n</html>\n";

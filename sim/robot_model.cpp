@@ -41,4 +41,15 @@ BodySize body_size(RobotKind kind) {
   return {0.25, 0.25, 0.10};
 }
 
+CameraSpec default_camera(RobotKind kind) {
+  CameraSpec c;
+  if (kind == RobotKind::kMultirotor) {
+    c.baseline_m = 0.11;
+    c.min_range_m = 1.6;
+    c.max_range_m = 8.0;
+    c.mount_up_m = 0.0;
+  }
+  return c;
+}
+
 }  // namespace scancrew::sim

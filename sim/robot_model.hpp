@@ -60,4 +60,9 @@ struct BodySize {
 };
 BodySize body_size(RobotKind kind);
 
+// The camera a robot of this kind carries unless its launch file says otherwise: the
+// defaults of CameraSpec (ground robots, table 5.3) or, for multirotors, table 2.1's baseline
+// (0.11 m) and range ([1.6, 8] m) with the camera at the body centre.
+CameraSpec default_camera(RobotKind kind);
+
 }  // namespace scancrew::sim

@@ -231,6 +231,7 @@ void LowLevelPlanner::send_maneuver(msg::Maneuver::Kind kind, const msg::Waypoin
 
 void LowLevelPlanner::tick() {
   if (!pose_) return;
+  held_by_ = 0;  // set again below while the traffic policy holds the robot
   if (awaiting_after_ && now_s() - awaiting_since_s_ > config_.replan_timeout_s) {
     // unanswered: the high-level planner acts on a change of mode, so pass through kWaiting
     awaiting_since_s_ = now_s();
@@ -545,6 +546,7 @@ void LowLevelPlanner::watch_motion() {
       if (last_maneuver_ != msg::Maneuver::Kind::kStop) ++stats_.traffic_holds;
       send_maneuver(msg::Maneuver::Kind::kStop, {}, d.because_of_robot);
       mode_ = Mode::kWaiting;
+      held_by_ = d.because_of_robot;
       break;
     case TrafficAction::kStepAside:
       if (last_maneuver_ != msg::Maneuver::Kind::kStepAside) {
@@ -555,6 +557,7 @@ void LowLevelPlanner::watch_motion() {
                       d.because_of_robot);
       }
       mode_ = Mode::kSteppingAside;
+      held_by_ = d.because_of_robot;
       break;
     case TrafficAction::kResume:
       // back to the tour from where the robot now is: a new path to the goal
@@ -720,6 +723,8 @@ void LowLevelPlanner::publish_state() {
   s.path_index = tour_ ? static_cast<uint32_t>(tour_->next) : 0;
   s.steps_remaining = tour_ ? static_cast<uint32_t>(tour_->remaining()) : 0;
   s.path_length_m = stats_.path_length_m;
+  s.backing_off = backing_off_.has_value();
+  s.held_by_robot = mode_ == Mode::kWaiting || mode_ == Mode::kSteppingAside ? held_by_ : 0;
   (void)state_pub_.publish(std::move(*loan));
 }
 

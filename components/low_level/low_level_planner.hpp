@@ -207,7 +207,8 @@ class LowLevelPlanner final : public Component {
   bool stopped_ = false;                      // an emergency stop is in force
   bool map_unchecked_ = false;                // a snapshot newer than the path's last check
   std::optional<msg::Waypoint> backing_off_;  // the free pose it is backing off to
-  msg::Vec3 backoff_start_;                   // from where
+  uint32_t held_by_ = 0;     // the teammate the traffic policy yields to this tick (0: none)
+  msg::Vec3 backoff_start_;  // from where
   int consecutive_failures_ = 0;
   // stuck_backoff_m: the run of no_path failures from one spot, and the rounds there
   struct StuckSpot {

@@ -1,12 +1,14 @@
 #include "components/mission/mission_monitor.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "executors/log.hpp"
 #include "executors/registry.hpp"
 #include "interfaces/eigen_conversions.hpp"
+#include "sim/robot_model.hpp"
 
 namespace scancrew::components {
 
@@ -45,10 +47,12 @@ Result<void, std::string> MissionMonitor::on_configure() {
     return make_unexpected(std::string(
         "mission_monitor needs the launch file's robots (each with a namespace) to watch"));
   if (!config_.scene.empty()) {
-    auto truth = mission::SurfaceCoverage::from_scene(
-        config_.scene, {.density_per_m2 = config_.coverage_density_per_m2,
-                        .truncation_share = config_.coverage_truncation_share,
-                        .visibility_rays = config_.visibility_rays});
+    auto truth =
+        mission::SurfaceCoverage::from_scene(config_.scene,
+                                             {.density_per_m2 = config_.coverage_density_per_m2,
+                                              .truncation_share = config_.coverage_truncation_share,
+                                              .visibility_rays = config_.visibility_rays},
+                                             team_starts());
     if (!truth) return make_unexpected("scene: " + truth.error());
     if (truth->points() == 0)
       return make_unexpected("scene: " + config_.scene +
@@ -65,6 +69,8 @@ Result<void, std::string> MissionMonitor::on_configure() {
   const bool per_robot = config_.maps != "shared";
   const bool maps = config_.maps != "none";
   sources_.resize(per_robot ? n : 1);
+  // without maps (a simulator process) integration is not seen here: not held against
+  for (RobotProgress& r : robots_) r.integrated = !maps;
   for (size_t i = 0; i < n; ++i) {
     const TeamMember& m = team()[i];
     robots_[i].id = m.id;
@@ -93,8 +99,19 @@ Result<void, std::string> MissionMonitor::on_configure() {
   return {};
 }
 
+std::vector<eval::TeamStart> MissionMonitor::team_starts() const {
+  std::vector<eval::TeamStart> starts;
+  for (const TeamMember& m : team()) {
+    const bool ground = m.kind != "multirotor";
+    starts.push_back({.kind = ground ? sim::RobotKind::kGround : sim::RobotKind::kMultirotor,
+                      .position = {m.start_x_m, m.start_y_m, ground ? 0.0 : m.start_z_m}});
+  }
+  return starts;
+}
+
 void MissionMonitor::on_activate() {
   start_ns_ = clock().now_ns();
+  accounted_s_ = 0;
 }
 
 double MissionMonitor::now_s() {
@@ -136,6 +153,8 @@ void MissionMonitor::on_state(size_t robot, const msg::RobotState& state) {
     }
     r.mode = state.mode;
     r.have_state = true;
+    r.backing_off = state.backing_off;
+    r.held_by_robot = state.held_by_robot;
     const bool idle = state.mode == Mode::kIdle || state.mode == Mode::kDone;
     if (!idle)
       idle_since_s_[robot] = -1.0;
@@ -166,12 +185,50 @@ void MissionMonitor::on_ises(size_t source, const msg::IseSet& ises) {
 void MissionMonitor::on_map(size_t source, const tsdf::MapUpdate& update) {
   const std::lock_guard lock(mutex_);
   sources_[source].map = update.map;
+  for (RobotProgress& r : robots_)
+    if (std::binary_search(update.robots_integrated.begin(), update.robots_integrated.end(), r.id))
+      r.integrated = true;
+}
+
+void MissionMonitor::account_time(double t) {
+  const double dt = t - accounted_s_;
+  if (dt <= 0) return;
+  accounted_s_ = t;
+  const bool per_robot = config_.maps != "shared";
+  for (size_t i = 0; i < robots_.size(); ++i) {
+    RobotProgress& r = robots_[i];
+    mission::ActivityInputs in{.have_state = r.have_state,
+                               .mode = r.mode,
+                               .backing_off = r.backing_off,
+                               .held_by_robot = r.held_by_robot,
+                               .source_complete = sources_[per_robot ? i : 0].complete};
+    if (have_pose_[i]) {
+      in.speed_mps = msg::to_eigen(last_pose_[i].linear_velocity_mps).norm();
+      in.yaw_rate_radps = last_pose_[i].angular_velocity_radps.z;
+    }
+    r.time.add(mission::classify(in), dt);
+  }
+}
+
+void MissionMonitor::close_time_breakdown() {
+  const std::lock_guard lock(mutex_);
+  account_time(now_s());
+}
+
+std::vector<std::string> MissionMonitor::robots_without_depth() const {
+  const std::lock_guard lock(mutex_);
+  std::vector<std::string> missing;
+  if (!depth_required_) return missing;
+  for (const RobotProgress& r : robots_)
+    if (!r.integrated && !(r.have_state && r.mode == Mode::kLost)) missing.push_back(r.ns);
+  return missing;
 }
 
 void MissionMonitor::on_path_tick() {
   const double t = now_s();
   {
     const std::lock_guard lock(mutex_);
+    account_time(t);
     for (size_t i = 0; i < robots_.size(); ++i) {
       if (!have_pose_[i]) continue;
       const msg::Pose3& p = last_pose_[i].T_world_body;
@@ -198,19 +255,23 @@ void MissionMonitor::on_coverage_tick() {
     }
   }
   // measured outside the lock: the snapshots are immutable
-  std::vector<double> measured(maps.size(), -1.0);
+  std::vector<mission::CoverageShare> measured(maps.size(), {.all = -1.0});
   for (size_t k = 0; k < maps.size(); ++k)
-    if (fresh[k]) measured[k] = truth_->measure(*maps[k]);
+    if (fresh[k]) measured[k] = truth_->measure_shares(*maps[k]);
   const std::lock_guard lock(mutex_);
   for (size_t k = 0; k < maps.size(); ++k) {
-    if (measured[k] >= 0) sources_[k].map_version_measured = maps[k]->sequence();
+    if (measured[k].all >= 0) sources_[k].map_version_measured = maps[k]->sequence();
     for (size_t i = 0; i < robots_.size(); ++i) {
       if (sources_.size() > 1 && i != k) continue;
-      if (measured[k] >= 0) robots_[i].coverage = measured[k];
+      if (measured[k].all >= 0) {
+        robots_[i].coverage = measured[k].all;
+        robots_[i].coverage_reachable = measured[k].reachable;
+      }
       if (robots_[i].coverage < 0) continue;
       coverage_.push_back({.t_s = t,
                            .robot_id = robots_[i].id,
                            .coverage = robots_[i].coverage,
+                           .coverage_reachable = robots_[i].coverage_reachable,
                            .ises_left = robots_[i].ises_left});
     }
   }
@@ -238,6 +299,21 @@ void MissionMonitor::check_finished() {
   bool all_complete = !(per_robot && all_lost);
   for (size_t k = 0; k < sources_.size(); ++k)
     if (!(per_robot && lost(k))) all_complete = all_complete && sources_[k].complete;
+  // a robot whose depth never reached a map has seen nothing: its source's empty C_ins
+  // says nothing about the scene (an unconnected depth topic, a camera that never fired)
+  std::string without_depth;
+  for (size_t i = 0; i < robots_.size() && depth_required_; ++i)
+    if (!lost(i) && !robots_[i].integrated)
+      without_depth += (without_depth.empty() ? "" : ", ") + robots_[i].ns;
+  if (all_complete && !without_depth.empty()) {
+    if (!no_depth_logged_)
+      SCANCREW_LOG_WARN(
+          "%s: the ISE sources report completion at %.1f s, but no map has "
+          "integrated a depth image of %s yet: not complete",
+          qualified_name().c_str(), t, without_depth.c_str());
+    no_depth_logged_ = true;
+    all_complete = false;
+  }
   if (all_complete && config_.stop_when_complete) {
     completion_time_s_ = t;
     stop_reason_ = "complete";

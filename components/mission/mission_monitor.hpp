@@ -45,11 +45,14 @@
 #include "interfaces/map_msgs.hpp"
 #include "interfaces/nav_msgs.hpp"
 #include "mission/run_files.hpp"
+#include "mission/time_breakdown.hpp"
 
 namespace scancrew::components {
 
 class MissionMonitor final : public Component {
  public:
+  // not on a robot or the station: never charged compute (StepExecutor)
+  static constexpr bool kWorld = true;
   static constexpr std::string_view kDescription =
       "watches a team mission: paths, coverage over time, ISEs left, completion (run reports)";
   struct Config {
@@ -77,10 +80,17 @@ class MissionMonitor final : public Component {
     bool have_state = false;
     double path_length_m = 0;
     double coverage = -1;  // < 0: not measured yet (or no scene)
+    // of the ground truth the team's robot kinds can observe (eval/team_reachable.hpp)
+    double coverage_reachable = -1;
     uint64_t ises_left = 0;
     bool have_ises = false;
     bool complete = false;
     uint64_t planning_requests = 0;  // entries into kPlanning (replanning requests)
+    bool backing_off = false;        // the latest state's
+    uint32_t held_by_robot = 0;      // the latest state's
+    // a map this robot's depth reaches has integrated one of its images (maps: none: true)
+    bool integrated = false;
+    mission::TimeBreakdown time;  // where its mission time went (time_breakdown.hpp)
   };
 
   MissionMonitor(ComponentContext context, Config config);
@@ -95,6 +105,18 @@ class MissionMonitor final : public Component {
   std::optional<double> completion_time_s() const;
   // "r1 moving 87 % 120 ISE · r2 planning 85 % 130 ISE" for the progress line.
   std::string status_line() const;
+  // Accounts the time since the last path tick to each robot's breakdown, so that the
+  // breakdowns sum to the mission time (after the run, before reading robots()).
+  void close_time_breakdown();
+  // The robots (namespaces) no map has integrated a depth image of, among those not lost
+  // (maps: none: none).
+  std::vector<std::string> robots_without_depth() const;
+  // Whether completion waits until a map has integrated a depth image of every robot (the
+  // default). Off in one process of a team split over processes, whose maps are in other
+  // processes (MapUpdate does not cross them). Set before the run.
+  void set_depth_required(bool required) { depth_required_ = required; }
+  // The team's kinds and start positions (the reachable ground truth's, team_reachable.hpp).
+  std::vector<eval::TeamStart> team_starts() const;
 
  private:
   struct Source {
@@ -112,6 +134,7 @@ class MissionMonitor final : public Component {
   void on_map(size_t source, const tsdf::MapUpdate& update);
   void on_path_tick();
   void on_coverage_tick();
+  void account_time(double t);  // with mutex_ held
   void check_finished();
   double now_s();
 
@@ -129,7 +152,10 @@ class MissionMonitor final : public Component {
   std::vector<mission::CoverageSample> coverage_;
   std::string stop_reason_;
   std::optional<double> completion_time_s_;
-  int64_t start_ns_ = 0;  // the mission's time 0: activation
+  int64_t start_ns_ = 0;    // the mission's time 0: activation
+  double accounted_s_ = 0;  // the breakdowns cover [0, accounted_s_]
+  bool no_depth_logged_ = false;
+  bool depth_required_ = true;
 };
 
 }  // namespace scancrew::components

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "components/tsdf/tsdf_map.hpp"
+#include "eval/team_reachable.hpp"
 #include "executors/result.hpp"
 
 namespace scancrew::mission {
@@ -29,20 +30,33 @@ struct SurfaceCoverageConfig {
   int visibility_rays = 64;  // the ground truth's mesh visibility test (surface_sampler.hpp)
 };
 
+// What a map has seen: of every ground-truth point, and of those the team can observe
+// (reachable < 0: no team given, not measured).
+struct CoverageShare {
+  double all = 0;
+  double reachable = -1;
+};
+
 class SurfaceCoverage {
  public:
-  // Loads the scene (YAML) and samples its surface; errors name the scene and the cause.
-  static Result<SurfaceCoverage, std::string> from_scene(const std::string& scene_path,
-                                                         const SurfaceCoverageConfig& config);
-  SurfaceCoverage(std::vector<std::array<float, 3>> points, SurfaceCoverageConfig config)
-      : points_(std::move(points)), config_(config) {}
+  // Loads the scene (YAML) and samples its surface; with a team, also marks the points its
+  // robots can observe (eval/team_reachable.hpp). Errors name the scene and the cause.
+  static Result<SurfaceCoverage, std::string> from_scene(
+      const std::string& scene_path, const SurfaceCoverageConfig& config,
+      const std::vector<eval::TeamStart>& team = {});
+  SurfaceCoverage(std::vector<std::array<float, 3>> points, SurfaceCoverageConfig config,
+                  std::vector<uint8_t> observable = {})
+      : points_(std::move(points)), observable_(std::move(observable)), config_(config) {}
 
   // The share of the ground-truth points the map has seen, in [0, 1] (0 without points).
-  double measure(const tsdf::MapSnapshot& map) const;
+  double measure(const tsdf::MapSnapshot& map) const { return measure_shares(map).all; }
+  CoverageShare measure_shares(const tsdf::MapSnapshot& map) const;
   size_t points() const { return points_.size(); }
+  size_t observable_points() const;
 
  private:
   std::vector<std::array<float, 3>> points_;
+  std::vector<uint8_t> observable_;  // empty: not known
   SurfaceCoverageConfig config_;
 };
 

@@ -31,11 +31,8 @@ int64_t period_ns(double rate_hz) {
 
 TeamSimulator::Config TeamSimulator::read_config(ParamReader& p) {
   Config c;
-  // multirotor defaults: table 2.1 (B = 0.11 m, range [1.6, 8] m), camera at the body centre
-  c.multirotor_camera.baseline_m = 0.11;
-  c.multirotor_camera.min_range_m = 1.6;
-  c.multirotor_camera.max_range_m = 8.0;
-  c.multirotor_camera.mount_up_m = 0.0;
+  c.ground_camera = sim::default_camera(sim::RobotKind::kGround);
+  c.multirotor_camera = sim::default_camera(sim::RobotKind::kMultirotor);
   p.required("scene", c.scene);
   p.optional("physics_step_s", c.physics_step_s, {1e-4, 1});
   p.optional("command_timeout_s", c.command_timeout_s, {0, 3600});

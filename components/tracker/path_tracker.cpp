@@ -100,6 +100,7 @@ Result<void, std::string> PathTracker::on_configure() {
                                      [this](Sample<msg::Odometry>&& s) { on_pose(*s); });
   create_subscription<msg::Maneuver>("maneuver", {.depth = 4},
                                      [this](Sample<msg::Maneuver>&& s) { on_maneuver(*s); });
+  mark_input_optional("maneuver");  // the traffic policy's; a replay has none
   create_timer(std::chrono::nanoseconds(std::llround(1e9 / config_.rate_hz)),
                [this] { on_tick(); });
   return {};

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "components/tsdf/tsdf_map.hpp"
 #include "interfaces/header.hpp"
@@ -19,6 +20,9 @@ struct MapUpdate {
   std::shared_ptr<const MapSnapshot> map;
   uint64_t frames_integrated = 0;  // depth images in the map so far (all sources)
   uint32_t patches = 0;            // completed patches fused (distributed mode)
+  // the robots (their depth images' header.robot_id) this mapper integrated a depth image
+  // of, ascending: a mission is not complete while a robot has none (mission_monitor)
+  std::vector<uint32_t> robots_integrated;
 };
 
 }  // namespace scancrew::tsdf

@@ -219,6 +219,11 @@ void TsdfMapper::on_depth(const msg::DepthImage& depth) {
   last_position_ = position;
   have_last_position_ = true;
   ++stats_.integrated;
+  if (!std::binary_search(robots_integrated_.begin(), robots_integrated_.end(),
+                          depth.header.robot_id))
+    robots_integrated_.insert(std::upper_bound(robots_integrated_.begin(), robots_integrated_.end(),
+                                               depth.header.robot_id),
+                              depth.header.robot_id);
   stats_.integrate_ms_sum += ms;
   stats_.integrate_ms_max = std::max(stats_.integrate_ms_max, ms);
   last_stamp_ns_ = depth.header.stamp_ns;
@@ -408,6 +413,7 @@ void TsdfMapper::publish_snapshot(int64_t stamp_ns) {
   (*loan)->header.stamp_ns = stamp_ns;
   (*loan)->map = snapshot();
   (*loan)->frames_integrated = stats_.integrated;
+  (*loan)->robots_integrated = robots_integrated_;
   (*loan)->patches = static_cast<uint32_t>(held_.size());
   ++stats_.snapshots;
   (void)map_.publish(std::move(*loan));

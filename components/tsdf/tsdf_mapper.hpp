@@ -154,6 +154,7 @@ class TsdfMapper final : public Component {
   Publisher<msg::PatchList> list_;
   Publisher<msg::PatchRequest> request_;
   TsdfMapperStats stats_;
+  std::vector<uint32_t> robots_integrated_;  // MapUpdate::robots_integrated
 };
 
 }  // namespace scancrew::tsdf

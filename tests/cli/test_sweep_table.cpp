@@ -202,11 +202,12 @@ TEST(SweepTable, CsvHasARowPerRunWithEmptyFieldsForMissingValues) {
   EXPECT_EQ(lines[0],
             "arch,robots,seed,stop_reason,completion_time_s,sim_time_s,wall_time_s,coverage,"
             "mean_error_m,rmse_m,total_path_length_m,data_exchanged_bytes,collisions,replans,"
+            "coverage_reachable,idle_share,time_to_95_reachable_s,tours_per_goal,compute_time,"
             "scene,run_dir,error");
   EXPECT_EQ(lines[1],
-            "distributed,2,1,complete,102.5,102.5,10.25,0.9932,0.001,0.0075,80,3500000,0,0,"
+            "distributed,2,1,complete,102.5,102.5,10.25,0.9932,0.001,0.0075,80,3500000,0,0,,,,,,"
             "launch_cfg/scenes/test_arena.yaml,runs/sweep/distributed_r2_s1,");
-  EXPECT_EQ(lines[2], "single,1,1,failed,,,,,,,,,,,,,\"exited with status 2, see above\"");
+  EXPECT_EQ(lines[2], "single,1,1,failed,,,,,,,,,,,,,,,,,,\"exited with status 2, see above\"");
 }
 
 TEST(SweepTable, MarkdownHasATableRowPerArchitectureAndTeam) {
@@ -225,17 +226,19 @@ TEST(SweepTable, MarkdownHasATableRowPerArchitectureAndTeam) {
   EXPECT_EQ(lines[2], "## Scene `launch_cfg/scenes/test_arena.yaml`");
   EXPECT_EQ(lines[4],
             "| architecture | robots | completed / runs | time (s) | time vs 1 robot | "
-            "coverage (%) | RMSE (mm) | total path (m) | data exchanged (MB) | collisions |");
-  EXPECT_EQ(lines[6],
-            "| single | 1 | 0/2 | ≥ 240.0 ± 0.0 | ref. | 98.40 ± 0.14 | 7.5 ± 0.0 | 40.0 ± 0.0 | "
-            "0.00 ± 0.00 | 0 |");
+            "coverage (%) | reachable (%) | RMSE (mm) | total path (m) | data exchanged (MB) | "
+            "idle (%) | collisions |");
+  EXPECT_EQ(
+      lines[6],
+      "| single | 1 | 0/2 | ≥ 240.0 ± 0.0 | ref. | 98.40 ± 0.14 | — | 7.5 ± 0.0 | 40.0 ± 0.0 | "
+      "0.00 ± 0.00 | — | 0 |");
   // the single robot ran out of time: the team needs at most 42.9 % of its time
   EXPECT_EQ(lines[7],
-            "| distributed | 2 | 2/2 | 103.0 ± 4.2 | ≤ 43 % | 99.40 ± 0.14 | 7.5 ± 0.0 | "
-            "80.0 ± 0.0 | 3.50 ± 0.00 | 0 |");
+            "| distributed | 2 | 2/2 | 103.0 ± 4.2 | ≤ 43 % | 99.40 ± 0.14 | — | 7.5 ± 0.0 | "
+            "80.0 ± 0.0 | 3.50 ± 0.00 | — | 0 |");
   EXPECT_EQ(lines[8],
-            "| distributed | 4 | 1/2 (1 failed) | 70.0 | ≤ 29 % | 99.00 | 7.5 | 160.0 | 3.50 | "
-            "0 |");
+            "| distributed | 4 | 1/2 (1 failed) | 70.0 | ≤ 29 % | 99.00 | — | 7.5 | 160.0 | 3.50 | "
+            "— | 0 |");
   EXPECT_NE(md.find("\n≥: a run of the row did not complete"), std::string::npos);
   EXPECT_NE(md.find("Failed runs (no metrics.json) and interrupted runs"), std::string::npos);
 }

@@ -191,7 +191,8 @@ TEST(RunFiles, ReaderNamesTheLineAndFieldOfANonNumber) {
 
 TEST(RunFiles, ReaderRejectsNanNamingTheLine) {
   TempDir dir;
-  write_text(dir.file("coverage.csv"), "t_s,robot_id,coverage,ises_left\n0,1,nan,3\n");
+  write_text(dir.file("coverage.csv"),
+             "t_s,robot_id,coverage,coverage_reachable,ises_left\n0,1,nan,-1,3\n");
   const auto c = read_coverage_csv(dir.file("coverage.csv"));
   ASSERT_FALSE(c);
   EXPECT_NE(c.error().find(dir.file("coverage.csv") + ":2"), std::string::npos) << c.error();
@@ -201,21 +202,22 @@ TEST(RunFiles, ReaderRejectsNanNamingTheLine) {
 
 TEST(RunFiles, ReaderRejectsBadFieldsAndCounts) {
   TempDir dir;
-  const std::string header = "t_s,robot_id,coverage,ises_left\n";
+  const std::string header = "t_s,robot_id,coverage,coverage_reachable,ises_left\n";
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"0,1,0.5\n", "3 fields, expected 4"},
-      {"0,1,0.5,3,9\n", "5 fields, expected 4"},
-      {"0,1.5,0.5,3\n", "field robot_id"},
-      {"0,-1,0.5,3\n", "field robot_id"},
-      {"0,99999999999,0.5,3\n", "out of range"},
-      {"0,1,1.5,3\n", "not in [0, 1]"},
-      {"0,1,0.5,-3\n", "field ises_left"},
-      {"inf,1,0.5,3\n", "field t_s"},
-      {"0,1,,3\n", "field coverage"},
-      {"0,1,0.5x,3\n", "field coverage"},
+      {"0,1,0.5,0.6\n", "4 fields, expected 5"},
+      {"0,1,0.5,0.6,3,9\n", "6 fields, expected 5"},
+      {"0,1.5,0.5,0.6,3\n", "field robot_id"},
+      {"0,-1,0.5,0.6,3\n", "field robot_id"},
+      {"0,99999999999,0.5,0.6,3\n", "out of range"},
+      {"0,1,1.5,0.6,3\n", "not in [0, 1]"},
+      {"0,1,0.5,1.6,3\n", "field coverage_reachable"},
+      {"0,1,0.5,0.6,-3\n", "field ises_left"},
+      {"inf,1,0.5,0.6,3\n", "field t_s"},
+      {"0,1,,0.6,3\n", "field coverage"},
+      {"0,1,0.5x,0.6,3\n", "field coverage"},
   };
   for (const auto& [line, expected] : cases) {
-    write_text(dir.file("coverage.csv"), header + "0,1,0.1,5\n" + line);
+    write_text(dir.file("coverage.csv"), header + "0,1,0.1,-1,5\n" + line);
     const auto c = read_coverage_csv(dir.file("coverage.csv"));
     ASSERT_FALSE(c) << line;
     EXPECT_NE(c.error().find(":3"), std::string::npos) << c.error();
@@ -431,6 +433,30 @@ TEST(RunReport, MissingOrBrokenMetricsIsAnErrorNamingIt) {
   const auto no_dir = write_report(dir.file("no_such_run"));
   ASSERT_FALSE(no_dir);
   EXPECT_NE(no_dir.error().find("no_such_run"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace scancrew::mission
+
+namespace scancrew::mission {
+namespace {
+
+TEST(RunFiles, TimeToCoverageIsTheFirstSampleOfAnyRobotAtTheShare) {
+  const std::vector<CoverageSample> samples = {
+      {.t_s = 10, .robot_id = 1, .coverage = 0.40, .coverage_reachable = 0.50},
+      {.t_s = 10, .robot_id = 2, .coverage = 0.45, .coverage_reachable = 0.55},
+      {.t_s = 20, .robot_id = 1, .coverage = 0.80, .coverage_reachable = 0.91},
+      {.t_s = 20, .robot_id = 2, .coverage = 0.88, .coverage_reachable = 0.93},
+      {.t_s = 30, .robot_id = 1, .coverage = 0.90, .coverage_reachable = 0.96},
+  };
+  EXPECT_EQ(time_to_coverage(samples, 0.5, false), 20.0);
+  EXPECT_EQ(time_to_coverage(samples, 0.5, true), 10.0);
+  EXPECT_EQ(time_to_coverage(samples, 0.9, false), 30.0);
+  EXPECT_EQ(time_to_coverage(samples, 0.9, true), 20.0);
+  EXPECT_EQ(time_to_coverage(samples, 0.95, true), 30.0);
+  EXPECT_FALSE(time_to_coverage(samples, 0.95, false));
+  // not measured (-1) never reaches a share
+  EXPECT_FALSE(time_to_coverage({{.t_s = 1, .robot_id = 1, .coverage = 1.0}}, 0.5, true));
 }
 
 }  // namespace

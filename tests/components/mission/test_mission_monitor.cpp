@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "components/mission/mission_monitor.hpp"
+#include "components/tsdf/map_update.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 
@@ -22,6 +23,8 @@ struct Script {
   std::vector<std::tuple<double, size_t, msg::RobotState::Mode>> states;
   // (time, robot index, inspectable, complete)
   std::vector<std::tuple<double, size_t, uint32_t, bool>> ises;
+  // each robot's map says at 0.1 s that it integrated a depth image of it (false: never)
+  bool depth_integrated = true;
 };
 Script g_script;  // NOLINT: set by each test before its launch runs
 
@@ -38,6 +41,8 @@ class Feeder final : public Component {
       poses_.push_back(create_publisher<msg::Odometry>("/" + m.ns + "/pose_gt"));
       states_.push_back(create_publisher<msg::RobotState>("/" + m.ns + "/robot_state"));
       ises_.push_back(create_publisher<msg::IseSet>("/" + m.ns + "/ises"));
+      maps_.push_back(create_publisher<tsdf::MapUpdate>("/" + m.ns + "/map"));
+      ids_.push_back(m.id);
     }
     create_timer(std::chrono::milliseconds(100), [this] { tick(); });
     return {};
@@ -45,6 +50,13 @@ class Feeder final : public Component {
   void tick() {
     const double t = static_cast<double>(clock().now_ns()) * 1e-9;
     const auto due = [&](double at) { return at <= t + 1e-9 && at > last_ + 1e-9; };
+    if (due(0.1) && g_script.depth_integrated)
+      for (size_t i = 0; i < maps_.size(); ++i)
+        if (auto loan = maps_[i].loan()) {
+          (*loan)->robots_integrated = {ids_[i]};
+          (*loan)->frames_integrated = 1;
+          (void)maps_[i].publish(std::move(*loan));
+        }
     for (const auto& [at, robot, x] : g_script.poses)
       if (due(at))
         if (auto loan = poses_[robot].loan()) {
@@ -74,6 +86,8 @@ class Feeder final : public Component {
   std::vector<Publisher<msg::Odometry>> poses_;
   std::vector<Publisher<msg::RobotState>> states_;
   std::vector<Publisher<msg::IseSet>> ises_;
+  std::vector<Publisher<tsdf::MapUpdate>> maps_;
+  std::vector<uint32_t> ids_;
   double last_ = -1;
 };
 SCANCREW_REGISTER_COMPONENT(Feeder, "test_mission_feeder")
@@ -84,8 +98,9 @@ constexpr const char* kThreeRobots =
 
 std::string launch_text(const std::string& monitor_params, double duration_s = 60,
                         const std::string& robots = kTwoRobots) {
+  // compute free: the times below are exact
   return "clock: sim\nexecutor: {type: step}\nrun: {duration_s: " + std::to_string(duration_s) +
-         ", sim_step_s: 0.1}\n"
+         ", sim_step_s: 0.1, compute_time: free}\n"
          "robots:\n" +
          robots +
          "components:\n"
@@ -156,6 +171,45 @@ TEST(MissionMonitor, CompletesWhenEveryIseSourceIsCompleteAndStopsTheLaunchThere
   const auto robots = monitor->robots();
   EXPECT_TRUE(robots[0].complete && robots[1].complete);
   EXPECT_EQ(robots[1].ises_left, 0u);
+}
+
+// A robot whose depth never reached a map saw nothing: its source's empty C_ins is no
+// completion (a mapper reading a topic nobody publishes once "completed" at 0.5 s).
+TEST(MissionMonitor, ASourceCompleteBeforeItsRobotsDepthIsIntegratedIsNoCompletion) {
+  g_script = {};
+  g_script.depth_integrated = false;
+  g_script.ises = {{1.0, 0, 0, true}, {1.0, 1, 0, true}};
+  auto launch = make_launch(launch_text("stall_timeout_s: 0", 5.0));
+  ASSERT_TRUE(launch);
+  auto* monitor = launch->find_component<MissionMonitor>();
+  launch->set_stop_condition([monitor] { return monitor->finished(); });
+  EXPECT_NEAR(launch->run(), 5.0, 1e-6);
+  EXPECT_FALSE(monitor->finished());
+  EXPECT_EQ(monitor->robots_without_depth(), (std::vector<std::string>{"r1", "r2"}));
+}
+
+// Every interval of mission time goes to one activity: the breakdowns sum to the time run.
+TEST(MissionMonitor, TimeBreakdownSumsToTheMissionTime) {
+  g_script = {};
+  g_script.states = {{0.2, 0, Mode::kPlanning},
+                     {1.0, 0, Mode::kMoving},
+                     {3.0, 0, Mode::kIdle},
+                     {0.2, 1, Mode::kIdle}};
+  g_script.ises = {{0.5, 0, 5, false}, {0.5, 1, 0, true}};
+  auto launch = make_launch(launch_text("path_period_s: 0.5, stall_timeout_s: 0", 7.3));
+  ASSERT_TRUE(launch);
+  auto* monitor = launch->find_component<MissionMonitor>();
+  const double ran = launch->run();
+  monitor->close_time_breakdown();
+  for (const auto& r : monitor->robots()) EXPECT_NEAR(r.time.total(), ran, 1e-9) << r.ns;
+  const auto robots = monitor->robots();
+  using mission::Activity;
+  // robot 1: waiting (no state, planning, moving without motion) until 3 s, then idle with
+  // ISEs open; robot 2: idle after its source's completion from 0.5 s on
+  EXPECT_NEAR(robots[0].time.of(Activity::kWaiting), 3.0, 0.51);
+  EXPECT_NEAR(robots[0].time.of(Activity::kIdleOpen), ran - 3.0, 0.51);
+  EXPECT_NEAR(robots[1].time.of(Activity::kIdleDone), ran - 0.5, 0.51);
+  EXPECT_EQ(robots[0].time.of(Activity::kDriving), 0.0);
 }
 
 TEST(MissionMonitor, OneIncompleteSourceKeepsTheMissionGoing) {
