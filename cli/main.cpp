@@ -1,12 +1,13 @@
 // scancrew: the command line. Subcommands: run, sim, robot, station, sweep, components, graph,
 // render, groundtruth, scenegen, eval, report, bench (ipc, sim, perception, tsdf, ise, tsp,
-// planner, pipeline).
+// planner, pipeline, explore).
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <string>
 
 #include "cli/eval_command.hpp"
+#include "cli/explore_bench.hpp"
 #include "cli/groundtruth_command.hpp"
 #include "cli/render_command.hpp"
 #include "cli/report.hpp"
@@ -407,7 +408,22 @@ int main(int argc, char** argv) {
                            "override a launch parameter: name.key=value (as scancrew run --set)");
   pipeline_cmd->add_option("--seed", pipeline_bench.seed, "simulator seed (default 1)");
 
+  scancrew::cli::ExploreOptions explore_bench;
+  auto* explore_cmd = bench->add_subcommand(
+      "explore",
+      "the exploration benchmark: thesis and procedural scenes x teams x architectures, "
+      "compute charged, default parameters (docs/results/explore.md)");
+  explore_cmd->add_flag("--json", explore_bench.json, "print every run and the rows as JSON");
+  explore_cmd->add_flag("--quick", explore_bench.quick,
+                        "2 small procedural scenes, short budgets (CI); checks the metrics");
+  explore_cmd->add_option("--jobs", explore_bench.jobs, "runs at a time (default: the cores)")
+      ->check(CLI::Range(1, 64));
+  explore_cmd->add_option("--out", explore_bench.out_dir,
+                          "output folder (runs/bench_explore); a rerun resumes it");
+
   CLI11_PARSE(app, argc, argv);
+
+  if (explore_cmd->parsed()) return scancrew::cli::run_explore_bench(explore_bench);
 
   if (run->parsed()) return scancrew::cli::run_launch(run_options);
   for (auto [cmd, process] : {std::pair{sim_part, "sim"}, std::pair{robot_part, "robot"},

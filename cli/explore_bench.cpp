@@ -1,0 +1,319 @@
+#include "cli/explore_bench.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <thread>
+
+#include "cli/child_process.hpp"
+#include "cli/explore_table.hpp"
+#include "cli/mission_compose.hpp"
+#include "executors/params_impl.hpp"
+#include "scenegen/scenegen.hpp"
+
+namespace scancrew::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+volatile std::sig_atomic_t g_stop = 0;
+
+void on_signal(int /*signal*/) {
+  g_stop = 1;
+  static constexpr char kMessage[] =
+      "\nscancrew bench explore: stopping after the runs in progress (rerun to resume)\n";
+  const ssize_t written = write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+  (void)written;
+}
+
+struct BenchScene {
+  std::string name, family, path, kind;
+  double budget_s = 0;
+};
+
+// The benchmark's scene sizes (so that it fits in 2 hours on 2 cores): procedural scenes of at
+// most this floor area, and their budgets (simulated seconds, compute charged).
+constexpr double kIndoorMaxAreaM2 = 625;    // 25 x 25 m
+constexpr double kOutdoorMaxAreaM2 = 3600;  // 60 x 60 m
+constexpr double kIndoorBudgetS = 600, kOutdoorBudgetS = 600;
+constexpr double kQuickBudgetS = 150;
+
+double floor_area_m2(const sim::SceneSpec& s) {
+  return (s.max_m.x - s.min_m.x) * (s.max_m.y - s.min_m.y);
+}
+
+// Writes the scene of (family, seed) under dir (kept if there, byte for byte the same).
+Result<BenchScene, std::string> procedural_scene(scenegen::Family family, uint64_t seed,
+                                                 const fs::path& dir, double budget_s) {
+  auto g = scenegen::generate(family, seed);
+  if (!g) return make_unexpected(g.error());
+  const std::string name = scenegen::to_string(family) + "_" + std::to_string(seed);
+  const fs::path path = dir / (name + ".yaml");
+  const std::string text = scenegen::write_scene_yaml(
+      g->scene, "scancrew scenegen --family " + scenegen::to_string(family) + " --seed " +
+                    std::to_string(seed));
+  if (read_text_file(path.string()) != text) {
+    std::ofstream f(path);
+    f << text;
+    if (!f) return make_unexpected("cannot write " + path.string());
+  }
+  return BenchScene{.name = name,
+                    .family = scenegen::to_string(family),
+                    .path = path.string(),
+                    .kind = sim::to_string(scenegen::robot_kind(family)),
+                    .budget_s = budget_s};
+}
+
+// The first `count` seeds from 1 whose scene's floor is at most max_area_m2 (quick: the one
+// smallest of seeds 1-20).
+Result<std::vector<BenchScene>, std::string> procedural_scenes(scenegen::Family family, bool quick,
+                                                               const fs::path& dir) {
+  const double max_area =
+      family == scenegen::Family::kIndoor ? kIndoorMaxAreaM2 : kOutdoorMaxAreaM2;
+  const double budget =
+      quick ? kQuickBudgetS
+            : (family == scenegen::Family::kIndoor ? kIndoorBudgetS : kOutdoorBudgetS);
+  std::vector<uint64_t> seeds;
+  if (quick) {
+    uint64_t best = 0;
+    double best_area = 0;
+    for (uint64_t seed = 1; seed <= 20; ++seed) {
+      auto g = scenegen::generate(family, seed);
+      if (!g) continue;
+      if (best == 0 || floor_area_m2(g->scene) < best_area) {
+        best = seed;
+        best_area = floor_area_m2(g->scene);
+      }
+    }
+    if (best == 0)
+      return make_unexpected("no " + scenegen::to_string(family) + " scene of seeds 1-20");
+    seeds.push_back(best);
+  } else {
+    for (uint64_t seed = 1; seed <= 200 && seeds.size() < 4; ++seed) {
+      auto g = scenegen::generate(family, seed);
+      if (g && floor_area_m2(g->scene) <= max_area) seeds.push_back(seed);
+    }
+    if (seeds.size() < 4)
+      return make_unexpected("fewer than 4 " + scenegen::to_string(family) +
+                             " scenes of seeds 1-200 fit the benchmark");
+  }
+  std::vector<BenchScene> scenes;
+  for (const uint64_t seed : seeds) {
+    auto s = procedural_scene(family, seed, dir, budget);
+    if (!s) return make_unexpected(s.error());
+    scenes.push_back(std::move(s).value());
+  }
+  return scenes;
+}
+
+std::vector<ExploreRun> plan_runs(const std::vector<BenchScene>& scenes, bool quick,
+                                  const fs::path& out) {
+  std::vector<ExploreRun> runs;
+  for (const BenchScene& s : scenes) {
+    std::vector<size_t> teams =
+        s.kind == "ground" ? std::vector<size_t>{1, 2, 4} : std::vector<size_t>{1, 3, 5};
+    if (quick) teams = s.kind == "ground" ? std::vector<size_t>{1, 2} : std::vector<size_t>{1};
+    for (const size_t n : teams)
+      for (const char* arch : {"single", "centralized", "distributed"}) {
+        if ((n == 1) != (std::string(arch) == "single")) continue;
+        ExploreRun r{.scene = s.name,
+                     .family = s.family,
+                     .kind = s.kind,
+                     .arch = arch,
+                     .robots = n,
+                     .budget_s = s.budget_s};
+        r.run_dir = (out / "runs" / (s.name + "_" + arch + "_r" + std::to_string(n))).string();
+        runs.push_back(std::move(r));
+      }
+  }
+  return runs;
+}
+
+// A run done before (resume): its exit status and metrics.json.
+bool read_done(ExploreRun& r) {
+  const auto status = read_text_file((fs::path(r.run_dir) / "exit_status").string());
+  if (!status) return false;
+  r.exit_status = std::atoi(status->c_str());
+  if (r.exit_status != 0 && r.exit_status != 3) return false;  // failed or interrupted: again
+  const auto text = read_text_file((fs::path(r.run_dir) / "metrics.json").string());
+  if (!text) return false;
+  auto read = read_explore_metrics(*text, r, r.run_dir + "/metrics.json");
+  if (!read) return false;
+  r = std::move(read).value();
+  return r.stop_reason != "interrupted";
+}
+
+void finish_run(ExploreRun& r, int status) {
+  r.exit_status = status;
+  std::ofstream((fs::path(r.run_dir) / "exit_status").string()) << status << "\n";
+  const fs::path metrics = fs::path(r.run_dir) / "metrics.json";
+  if (const auto text = read_text_file(metrics.string())) {
+    auto read = read_explore_metrics(*text, r, metrics.string());
+    if (read)
+      r = std::move(read).value();
+    else
+      r.error = read.error();
+  } else {
+    r.error = "no metrics.json (exit status " + std::to_string(status) + "; see " + r.run_dir +
+              "/run.log)";
+  }
+}
+
+std::string describe(const ExploreRun& r) {
+  if (!r.ran()) return "failed: " + r.error;
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "%s at %.1f s, coverage %.1f %% (%.1f %% of the reachable), %.0f s wall",
+                r.stop_reason.c_str(), r.completed() ? r.completion_time_s : r.sim_time_s,
+                100 * r.coverage, 100 * r.coverage_reachable, r.wall_time_s);
+  return buf;
+}
+
+std::string machine_line() {
+  char host[256] = "?";
+  gethostname(host, sizeof host);
+  return std::to_string(std::thread::hardware_concurrency()) + " cores (" + host + ")";
+}
+
+}  // namespace
+
+int run_explore_bench(const ExploreOptions& o) {
+  const fs::path out = o.out_dir.empty()
+                           ? fs::path(o.quick ? "runs/bench_explore_quick" : "runs/bench_explore")
+                           : fs::path(o.out_dir);
+  std::error_code ec;
+  fs::create_directories(out / "scenes", ec);
+  fs::create_directories(out / "runs", ec);
+  if (ec) {
+    std::fprintf(stderr, "scancrew bench explore: cannot create %s: %s\n", out.c_str(),
+                 ec.message().c_str());
+    return 2;
+  }
+  std::vector<BenchScene> scenes;
+  if (!o.quick) {
+    scenes.push_back({"arena", "arena", "launch_cfg/scenes/test_arena.yaml", "ground", 240});
+    scenes.push_back(
+        {"parking_lot", "parking_lot", "launch_cfg/scenes/parking_lot.yaml", "ground", 900});
+    scenes.push_back(
+        {"powerplant", "powerplant", "launch_cfg/scenes/powerplant.yaml", "multirotor", 900});
+  }
+  for (const auto family : {scenegen::Family::kIndoor, scenegen::Family::kOutdoor}) {
+    auto more = procedural_scenes(family, o.quick, out / "scenes");
+    if (!more) {
+      std::fprintf(stderr, "scancrew bench explore: %s\n", more.error().c_str());
+      return 2;
+    }
+    scenes.insert(scenes.end(), more->begin(), more->end());
+  }
+  std::vector<ExploreRun> runs = plan_runs(scenes, o.quick, out);
+  std::map<std::string, std::string> scene_path;
+  for (const BenchScene& s : scenes) scene_path[s.name] = s.path;
+
+  const size_t jobs = o.jobs > 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
+  const std::string command = std::string("scancrew bench explore") + (o.quick ? " --quick" : "") +
+                              (o.jobs > 0 ? " --jobs " + std::to_string(o.jobs) : "") +
+                              (o.out_dir.empty() ? "" : " --out " + o.out_dir);
+  const std::string title = std::string("bench explore") + (o.quick ? " --quick" : "") + ": " +
+                            std::to_string(runs.size()) + " runs";
+  const auto write_tables = [&] {
+    std::ofstream(out / "explore.csv") << format_explore_csv(runs);
+    std::ofstream(out / "explore.md")
+        << format_explore_markdown(runs, title, command, machine_line());
+  };
+
+  g_stop = 0;
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto minutes = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / 60;
+  };
+  std::map<pid_t, size_t> running;
+  size_t next = 0, done = 0, resumed = 0;
+  const auto start_next = [&]() -> bool {
+    for (; next < runs.size(); ++next) {
+      ExploreRun& r = runs[next];
+      if (read_done(r)) {
+        ++done;
+        ++resumed;
+        continue;
+      }
+      fs::create_directories(r.run_dir, ec);
+      fs::remove(fs::path(r.run_dir) / "metrics.json", ec);
+      fs::remove(fs::path(r.run_dir) / "run.log", ec);
+      auto launch = compose_mission({.scene_path = scene_path[r.scene],
+                                     .kind = r.kind,
+                                     .robots = r.robots,
+                                     .arch = r.arch,
+                                     .duration_s = r.budget_s});
+      if (!launch) {
+        r.error = launch.error();
+        ++done;
+        continue;
+      }
+      const std::string launch_path = (fs::path(r.run_dir) / "launch.yaml").string();
+      std::ofstream(launch_path) << *launch;
+      const pid_t pid =
+          start_child({"scancrew", "run", launch_path, "--out", r.run_dir, "--trace-events", "0"},
+                      (fs::path(r.run_dir) / "run.log").string());
+      if (pid < 0) {
+        r.error = "could not start scancrew run";
+        ++done;
+        continue;
+      }
+      std::fprintf(stderr, "[%5.1f min] start  %s %s %zu (%s)\n", minutes(), r.scene.c_str(),
+                   r.arch.c_str(), r.robots, r.run_dir.c_str());
+      running[pid] = next++;
+      return true;
+    }
+    return false;
+  };
+  while (g_stop == 0 && running.size() < jobs && start_next()) {
+  }
+  while (!running.empty()) {
+    const auto [pid, status] = wait_any_child();
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    ExploreRun& r = runs[it->second];
+    running.erase(it);
+    finish_run(r, status);
+    ++done;
+    std::fprintf(stderr, "[%5.1f min] %zu/%zu  %s %s %zu: %s\n", minutes(), done, runs.size(),
+                 r.scene.c_str(), r.arch.c_str(), r.robots, describe(r).c_str());
+    write_tables();
+    while (g_stop == 0 && running.size() < jobs && start_next()) {
+    }
+  }
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  write_tables();
+  if (o.json)
+    std::printf("%s", format_explore_json(runs).c_str());
+  else
+    std::printf("%s", format_explore_markdown(runs, title, command, machine_line()).c_str());
+  std::fprintf(stderr, "%zu of %zu runs done (%zu from an earlier run) in %.1f min; %s, %s\n", done,
+               runs.size(), resumed, minutes(), (out / "explore.md").c_str(),
+               (out / "explore.csv").c_str());
+  if (g_stop != 0 || done < runs.size()) return 1;
+  if (o.quick) {
+    size_t bad = 0;
+    for (const ExploreRun& r : runs)
+      if (const std::string problem = check_explore_run(r); !problem.empty()) {
+        std::fprintf(stderr, "scancrew bench explore --quick: %s\n", problem.c_str());
+        ++bad;
+      }
+    if (bad > 0) return 1;
+    std::fprintf(stderr, "scancrew bench explore --quick: %zu runs, metrics consistent\n",
+                 runs.size());
+  }
+  return 0;
+}
+
+}  // namespace scancrew::cli

@@ -1,0 +1,33 @@
+#pragma once
+
+// `scancrew bench explore`: the fixed exploration benchmark (docs/results/explore.md). Every
+// mission is composed from a scene, a team and an architecture with the robot kind's
+// profile and nothing else (cli/mission_compose.hpp), run with compute charged, in child
+// processes (--jobs at a time), each into OUT/runs/<scene>_<arch>_r<N>/:
+//   scenes: the thesis's test arena and parking lot (ground robots) and powerplant
+//           (multirotors), and 8 procedural scenes (scancrew scenegen): 4 indoor, 4 outdoor,
+//           the first seeds whose scenes fit the benchmark's size (explore_bench.cpp);
+//   teams:  ground robots 1, 2, 4; multirotors 1, 3, 5; one robot runs "single", a team
+//           centralized and distributed;
+//   budget: per scene (explore_bench.cpp), the same for every team.
+// Resumable: a run whose directory holds its metrics.json and exit status is not run again.
+// --quick: the smallest indoor and outdoor scenes of seeds 1-20, short budgets, fewer teams;
+// it fails (exit 1) when a run failed or wrote inconsistent metrics (check_explore_run).
+// Writes OUT/explore.md and OUT/explore.csv after every run; --json prints every run and
+// the summary rows.
+
+#include <cstddef>
+#include <string>
+
+namespace scancrew::cli {
+
+struct ExploreOptions {
+  bool json = false;
+  bool quick = false;
+  size_t jobs = 0;      // 0: the cores of this machine
+  std::string out_dir;  // "": runs/bench_explore (runs/bench_explore_quick)
+};
+
+int run_explore_bench(const ExploreOptions& options);
+
+}  // namespace scancrew::cli

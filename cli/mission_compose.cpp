@@ -1,0 +1,169 @@
+#include "cli/mission_compose.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <vector>
+
+#include "executors/params_impl.hpp"
+#include "sim/scene.hpp"
+
+namespace scancrew::cli {
+
+namespace {
+
+struct ComponentPlan {
+  std::string name, type;
+  bool per_robot = true;
+  YAML::Node params = YAML::Node(YAML::NodeType::Map);
+  YAML::Node remap;  // null: none
+};
+
+// The graph of an architecture, before the profile's parameters.
+std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, bool masked) {
+  const bool centralized = s.arch == "centralized";
+  const bool single = s.arch == "single";
+  std::vector<ComponentPlan> g;
+  ComponentPlan sim{.name = "sim", .type = "team_simulator", .per_robot = false};
+  sim.params["scene"] = s.scene_path;
+  sim.params["seed"] = s.seed;
+  sim.params["publish_stereo"] = false;
+  g.push_back(sim);
+  if (masked) g.push_back({.name = "mask", .type = "depth_mask"});
+
+  ComponentPlan mapper{.name = "mapper", .type = "tsdf_mapper", .per_robot = !centralized};
+  mapper.params["mode"] = s.arch;
+  if (masked) mapper.params["depth_topic"] = "depth_masked";
+  mapper.params["mesh_path"] = s.arch == "distributed" ? "{out}/mesh_{ns}.ply" : "{out}/mesh.ply";
+  mapper.params["octomap_path"] = s.arch == "distributed" ? "{out}/map_{ns}.bt" : "{out}/map.bt";
+  g.push_back(mapper);
+  g.push_back({.name = "ise", .type = "ise_extractor", .per_robot = !centralized});
+
+  ComponentPlan planner{
+      .name = "planner", .type = "high_level_planner", .per_robot = !centralized && !single};
+  planner.params["algorithm"] = s.arch == "distributed" ? "dist_tsga" : "tsga";
+  if (single) {
+    // the one robot's clusters and ISEs, as launch_cfg/missions/parking_lot_1_single.yaml
+    planner.remap["clusters"] = "/r1/clusters";
+    planner.remap["ises"] = "/r1/ises";
+  }
+  g.push_back(planner);
+
+  ComponentPlan low{.name = "low_level", .type = "low_level_planner"};
+  low.params["redundancy_check"] = s.arch == "distributed";
+  if (centralized) {
+    low.remap["plan"] = "/plan";
+    low.remap["map"] = "/map";
+    low.remap["ises"] = "/ises";
+  } else if (single) {
+    low.remap["plan"] = "/plan";
+  }
+  g.push_back(low);
+  g.push_back({.name = "tracker", .type = "path_tracker"});
+
+  ComponentPlan monitor{.name = "monitor", .type = "mission_monitor", .per_robot = false};
+  monitor.params["scene"] = s.scene_path;
+  if (centralized) monitor.params["maps"] = "shared";
+  g.push_back(monitor);
+  return g;
+}
+
+// Merges the profile's section `key` (a mapping) into params; the graph's own keys win.
+void merge_section(const YAML::Node& profile, const std::string& key, YAML::Node& params) {
+  const YAML::Node section = profile[key];
+  if (!section.IsDefined() || !section.IsMap()) return;
+  for (const auto& kv : section) {
+    const std::string k = kv.first.Scalar();
+    if (!params[k].IsDefined()) params[k] = kv.second;
+  }
+}
+
+}  // namespace
+
+Result<std::string, std::string> compose_mission(const MissionSpec& s) {
+  if (s.kind != "ground" && s.kind != "multirotor")
+    return make_unexpected("robot kind '" + s.kind + "': allowed: ground, multirotor");
+  if (s.arch != "single" && s.arch != "centralized" && s.arch != "distributed")
+    return make_unexpected("architecture '" + s.arch +
+                           "': allowed: single, centralized, distributed");
+  if (s.robots == 0 || (s.arch == "single" && s.robots != 1))
+    return make_unexpected("architecture " + s.arch + " with " + std::to_string(s.robots) +
+                           " robots: single takes 1, the others 1 or more");
+  auto scene = sim::load_scene(s.scene_path);
+  if (!scene) {
+    std::string all;
+    for (const auto& e : scene.error()) all += (all.empty() ? "" : "; ") + e;
+    return make_unexpected(all);
+  }
+  const auto& starts = s.kind == "ground" ? scene->starts.ground : scene->starts.multirotor;
+  if (starts.size() < s.robots)
+    return make_unexpected(s.scene_path + ": starts." + s.kind + " lists " +
+                           std::to_string(starts.size()) + " start(s), the team has " +
+                           std::to_string(s.robots) + " robots");
+  const std::string profile_path =
+      s.profile_path.empty() ? s.profile_root + "/" + s.kind + ".yaml" : s.profile_path;
+  const auto profile_text = read_text_file(profile_path);
+  if (!profile_text) return make_unexpected(profile_path + ": cannot be read");
+  auto profile = parse_yaml(*profile_text, profile_path);
+  if (!profile) return make_unexpected(profile.error());
+  if (!profile->IsMap()) return make_unexpected(profile_path + ": a profile is a mapping");
+  // every section names a component of some architecture's graph, or <name>_<architecture>
+  static const std::vector<std::string> kNames = {"sim",     "mask",      "mapper",  "ise",
+                                                  "planner", "low_level", "tracker", "monitor"};
+  for (const auto& kv : *profile) {
+    const std::string key = kv.first.Scalar();
+    bool known = false;
+    for (const std::string& n : kNames)
+      for (const char* a : {"", "_single", "_centralized", "_distributed"})
+        known = known || key == n + a;
+    if (!known || !kv.second.IsMap())
+      return make_unexpected(yaml_location(profile_path, kv.first) + ": '" + key +
+                             "' is no component of a mission (a mapping of its parameters); "
+                             "allowed: sim, mask, mapper, ise, planner, low_level, tracker, "
+                             "monitor, each optionally with _single, _centralized or "
+                             "_distributed");
+  }
+
+  YAML::Node root(YAML::NodeType::Map);
+  root["clock"] = "sim";
+  root["executor"]["type"] = "step";
+  YAML::Node run(YAML::NodeType::Map);
+  run["duration_s"] = s.duration_s;
+  run["sim_step_s"] = 0.05;
+  run["progress_period_s"] = 20.0;
+  if (!s.compute_time.empty()) run["compute_time"] = s.compute_time;
+  root["run"] = run;
+  for (size_t i = 0; i < s.robots; ++i) {
+    YAML::Node r(YAML::NodeType::Map);
+    r["id"] = i + 1;
+    r["namespace"] = "r" + std::to_string(i + 1);
+    r["kind"] = s.kind;
+    YAML::Node start(YAML::NodeType::Sequence);
+    start.SetStyle(YAML::EmitterStyle::Flow);
+    start.push_back(starts[i].position_m.x);
+    start.push_back(starts[i].position_m.y);
+    start.push_back(starts[i].position_m.z);
+    start.push_back(std::round(starts[i].yaw_rad * 180.0 / M_PI * 1e6) / 1e6);
+    r["start"] = start;
+    r.SetStyle(YAML::EmitterStyle::Flow);
+    root["robots"].push_back(r);
+  }
+  for (ComponentPlan& c : architecture_graph(s, s.robots > 1)) {
+    merge_section(*profile, c.name, c.params);
+    merge_section(*profile, c.name + "_" + s.arch, c.params);
+    YAML::Node n(YAML::NodeType::Map);
+    n["name"] = c.name;
+    n["type"] = c.type;
+    if (!c.per_robot) n["per_robot"] = false;
+    if (c.remap.IsDefined() && c.remap.IsMap()) n["remap"] = c.remap;
+    if (c.params.size() > 0) n["params"] = c.params;
+    root["components"].push_back(n);
+  }
+  YAML::Emitter out;
+  out << root;
+  return "# composed by scancrew from scene " + s.scene_path + ", " + std::to_string(s.robots) +
+         " " + s.kind + " robot(s), " + s.arch + ", profile " + profile_path + "\n" + out.c_str() +
+         "\n";
+}
+
+}  // namespace scancrew::cli

@@ -1,0 +1,37 @@
+#pragma once
+
+// A mission from a scene, a team and an architecture (scancrew bench explore): the launch
+// file's graph is the architecture's (single, centralized: the station maps, extracts ISEs
+// and runs TSGA; distributed: each robot maps patches and runs dist-TSGA, with the
+// redundancy check), its parameters the robot kind's profile (launch_cfg/profiles/
+// <kind>.yaml: component name -> parameters, and <name>_<architecture> for what only one
+// architecture reads), the robots the first N of the scene's starts for that kind, and
+// nothing else: no per-scene parameter. Teams of more than one robot blank their teammates
+// out of the depth (depth_mask).
+//
+// compose_mission() returns the launch file's text (YAML), or what is wrong (an unknown kind
+// or architecture, a scene that cannot be read or lists fewer starts than robots, a profile
+// that cannot be read).
+
+#include <cstddef>
+#include <string>
+
+#include "executors/result.hpp"
+
+namespace scancrew::cli {
+
+struct MissionSpec {
+  std::string scene_path;
+  std::string kind = "ground";  // ground | multirotor
+  size_t robots = 1;
+  std::string arch = "distributed";  // single | centralized | distributed
+  double duration_s = 600;
+  int seed = 1;              // the simulator's and the low-level planners' seed
+  std::string profile_path;  // "": launch_cfg/profiles/<kind>.yaml under profile_root
+  std::string profile_root = "launch_cfg/profiles";
+  std::string compute_time;  // "": the launch's default (charged for a mission)
+};
+
+Result<std::string, std::string> compose_mission(const MissionSpec& spec);
+
+}  // namespace scancrew::cli
