@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "executors/params_impl.hpp"
@@ -68,6 +69,13 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, bool masked)
   return g;
 }
 
+// A number as YAML writes it by hand (yaml-cpp would write 0.05 as 0.050000000000000003).
+YAML::Node number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return YAML::Node(std::string(buf));
+}
+
 // Merges the profile's section `key` (a mapping) into params; the graph's own keys win.
 void merge_section(const YAML::Node& profile, const std::string& key, YAML::Node& params) {
   const YAML::Node section = profile[key];
@@ -128,9 +136,9 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   root["clock"] = "sim";
   root["executor"]["type"] = "step";
   YAML::Node run(YAML::NodeType::Map);
-  run["duration_s"] = s.duration_s;
-  run["sim_step_s"] = 0.05;
-  run["progress_period_s"] = 20.0;
+  run["duration_s"] = number(s.duration_s);
+  run["sim_step_s"] = number(0.05);
+  run["progress_period_s"] = number(20.0);
   if (!s.compute_time.empty()) run["compute_time"] = s.compute_time;
   root["run"] = run;
   for (size_t i = 0; i < s.robots; ++i) {
@@ -140,10 +148,10 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
     r["kind"] = s.kind;
     YAML::Node start(YAML::NodeType::Sequence);
     start.SetStyle(YAML::EmitterStyle::Flow);
-    start.push_back(starts[i].position_m.x);
-    start.push_back(starts[i].position_m.y);
-    start.push_back(starts[i].position_m.z);
-    start.push_back(std::round(starts[i].yaw_rad * 180.0 / M_PI * 1e6) / 1e6);
+    start.push_back(number(starts[i].position_m.x));
+    start.push_back(number(starts[i].position_m.y));
+    start.push_back(number(starts[i].position_m.z));
+    start.push_back(number(std::round(starts[i].yaw_rad * 180.0 / M_PI * 1e6) / 1e6));
     r["start"] = start;
     r.SetStyle(YAML::EmitterStyle::Flow);
     root["robots"].push_back(r);
