@@ -212,6 +212,12 @@ int run_explore_bench(const ExploreOptions& o) {
     }
     scenes.insert(scenes.end(), more->begin(), more->end());
   }
+  // the ground robots' scenes first, the powerplant last: a benchmark stopped early (and
+  // resumed later) has the cheaper rows filled
+  std::stable_partition(scenes.begin(), scenes.end(),
+                        [](const BenchScene& s) { return s.kind == "ground"; });
+  std::stable_partition(scenes.begin(), scenes.end(),
+                        [](const BenchScene& s) { return s.name != "powerplant"; });
   std::vector<ExploreRun> runs = plan_runs(scenes, o.quick, out);
   std::map<std::string, std::string> scene_path;
   for (const BenchScene& s : scenes) scene_path[s.name] = s.path;
