@@ -2,8 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <string_view>
 #include <vector>
 
 #include "executors/params_impl.hpp"
@@ -116,14 +118,14 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   if (!profile) return make_unexpected(profile.error());
   if (!profile->IsMap()) return make_unexpected(profile_path + ": a profile is a mapping");
   // every section names a component of some architecture's graph, or <name>_<architecture>
-  static const std::vector<std::string> kNames = {"sim",     "mask",      "mapper",  "ise",
-                                                  "planner", "low_level", "tracker", "monitor"};
+  static constexpr std::array<std::string_view, 8> kNames = {
+      "sim", "mask", "mapper", "ise", "planner", "low_level", "tracker", "monitor"};
   for (const auto& kv : *profile) {
     const std::string key = kv.first.Scalar();
     bool known = false;
-    for (const std::string& n : kNames)
+    for (const std::string_view n : kNames)
       for (const char* a : {"", "_single", "_centralized", "_distributed"})
-        known = known || key == n + a;
+        known = known || key == std::string(n) + a;
     if (!known || !kv.second.IsMap())
       return make_unexpected(yaml_location(profile_path, kv.first) + ": '" + key +
                              "' is no component of a mission (a mapping of its parameters); "

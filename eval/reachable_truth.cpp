@@ -195,9 +195,10 @@ Result<ReachableTruth, std::string> reachable_truth(
     for (size_t b = r.begin(); b != r.end(); ++b) {
       // the bucket's voxel, octant and candidate body positions
       const uint64_t key = keyed[starts[b]].first, v = key / 8, oct = key % 8;
-      const Vec3 c{lo[0] + (static_cast<double>(v % nvx) + 0.5) * bm,
-                   lo[1] + (static_cast<double>((v / nvx) % nvy) + 0.5) * bm,
-                   lo[2] + (static_cast<double>(v / (nvx * nvy)) + 0.5) * bm};
+      const uint64_t ix = v % nvx, iy = (v / nvx) % nvy, iz = v / (nvx * nvy);
+      const Vec3 c{lo[0] + (static_cast<double>(ix) + 0.5) * bm,
+                   lo[1] + (static_cast<double>(iy) + 0.5) * bm,
+                   lo[2] + (static_cast<double>(iz) + 0.5) * bm};
       const double s[3] = {(oct & 1U) != 0 ? -1.0 : 1.0, (oct & 2U) != 0 ? -1.0 : 1.0,
                            (oct & 4U) != 0 ? -1.0 : 1.0};
       cands.clear();

@@ -18,10 +18,10 @@ constexpr double kClearance = 1.2;     // free-standing objects to anything else
 constexpr double kWallEndClear = 1.2;  // a wall's end to the nearest doorway edge, m
 constexpr double kDoorFromEnd = 0.5;   // a doorway's edge to its wall's end, m
 
-const sim::Rgb kWallColor{0.78, 0.8, 0.82};
-const sim::Rgb kPalette[] = {{0.6, 0.6, 0.6},   {0.8, 0.25, 0.2}, {0.85, 0.78, 0.6},
-                             {0.2, 0.2, 0.2},   {0.3, 0.5, 0.75}, {0.55, 0.75, 0.55},
-                             {0.9, 0.65, 0.25}, {0.5, 0.35, 0.25}};
+constexpr sim::Rgb kWallColor{0.78, 0.8, 0.82};
+constexpr sim::Rgb kPalette[] = {{0.6, 0.6, 0.6},   {0.8, 0.25, 0.2}, {0.85, 0.78, 0.6},
+                                 {0.2, 0.2, 0.2},   {0.3, 0.5, 0.75}, {0.55, 0.75, 0.55},
+                                 {0.9, 0.65, 0.25}, {0.5, 0.35, 0.25}};
 
 // a coordinate along axis a (0: x, 1: y), and a rectangle from its ranges on a and on the
 // other axis

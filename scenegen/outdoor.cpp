@@ -14,11 +14,11 @@ namespace {
 constexpr double kEdge = 3.0;  // the site's edge to any footprint, m
 constexpr double kGap = 4.0;   // between footprints: two 1 m collision spheres and a margin, m
 
-const sim::Rgb kFacades[] = {{0.75, 0.72, 0.68}, {0.62, 0.55, 0.5}, {0.8, 0.78, 0.7},
-                             {0.55, 0.6, 0.65},  {0.7, 0.6, 0.45},  {0.5, 0.5, 0.55}};
-const sim::Rgb kSteel{0.45, 0.47, 0.5};
-const sim::Rgb kPipe{0.7, 0.55, 0.3};
-const sim::Rgb kConcrete{0.68, 0.68, 0.66};
+constexpr sim::Rgb kFacades[] = {{0.75, 0.72, 0.68}, {0.62, 0.55, 0.5}, {0.8, 0.78, 0.7},
+                                 {0.55, 0.6, 0.65},  {0.7, 0.6, 0.45},  {0.5, 0.5, 0.55}};
+constexpr sim::Rgb kSteel{0.45, 0.47, 0.5};
+constexpr sim::Rgb kPipe{0.7, 0.55, 0.3};
+constexpr sim::Rgb kConcrete{0.68, 0.68, 0.66};
 
 Rect around(const Rect& a, const Rect& b) {
   return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};

@@ -321,6 +321,10 @@ msg::Vec3 TeamSim::body_velocity(size_t robot) const {
   return {d->qvel[ids.dof_x], d->qvel[ids.dof_y], ids.dof_z >= 0 ? d->qvel[ids.dof_z] : 0.0};
 }
 
+double TeamSim::body_yaw_rate(size_t robot) const {
+  return impl_->data->qvel[impl_->ids[robot].dof_yaw];
+}
+
 msg::Pose3 TeamSim::camera_pose(size_t robot) const {
   const mjData* d = impl_->data;
   const auto c = static_cast<size_t>(impl_->ids[robot].cam_left);

@@ -75,6 +75,7 @@ class TeamSim {
   // T_world_cam of the left camera, optical frame: z forward, x right, y down.
   msg::Pose3 camera_pose(size_t robot) const;
   msg::Vec3 body_velocity(size_t robot) const;  // world frame, m/s
+  double body_yaw_rate(size_t robot) const;     // about the world z axis, rad/s
   // T_body_cam of the left camera's optical frame: the rig's extrinsics.
   msg::Pose3 camera_mount(size_t robot) const;
 

@@ -178,6 +178,7 @@ void TeamSimulator::publish_frame(size_t i) {
     odom.header.stamp_ns = now;
     odom.T_world_body = sim_->body_pose(i);
     odom.linear_velocity_mps = sim_->body_velocity(i);
+    odom.angular_velocity_radps = {0, 0, sim_->body_yaw_rate(i)};
     odom.tracking_quality = 1.0;
     (void)p.pose_gt.publish(std::move(*loan));
   }
