@@ -30,7 +30,7 @@ std::string csv_number(double v) {
 struct Row {
   std::string family, arch;
   size_t robots = 0;
-  size_t runs = 0, completed = 0, ran = 0, reached90 = 0, reached95 = 0;
+  size_t runs = 0, completed = 0, ran = 0, not_run = 0, reached90 = 0, reached95 = 0;
   bool lower_bound = false;
   std::vector<double> time, t90, t95, coverage, reachable, rmse, path, contacts, idle;
 };
@@ -44,6 +44,7 @@ std::vector<Row> aggregate(const std::vector<ExploreRun>& runs) {
     if (added) rows.push_back({.family = r.family, .arch = r.arch, .robots = r.robots});
     Row& row = rows[it->second];
     ++row.runs;
+    if (r.exit_status == -1 && r.error.empty()) ++row.not_run;  // stopped before its turn
     if (!r.ran()) continue;
     ++row.ran;
     if (r.completed()) {
@@ -187,7 +188,9 @@ std::string format_explore_markdown(const std::vector<ExploreRun>& runs, const s
   for (const Row& row : aggregate(runs)) {
     lower_bound = lower_bound || row.lower_bound;
     std::string runs_cell = std::to_string(row.completed) + "/" + std::to_string(row.runs);
-    if (row.ran < row.runs) runs_cell += " (" + std::to_string(row.runs - row.ran) + " failed)";
+    const size_t failed = row.runs - row.ran - row.not_run;
+    if (failed > 0) runs_cell += " (" + std::to_string(failed) + " failed)";
+    if (row.not_run > 0) runs_cell += " (" + std::to_string(row.not_run) + " not run yet)";
     md += "| " + row.family + " | " + std::to_string(row.robots) + " | " + row.arch + " | " +
           runs_cell + " | " + (row.lower_bound ? "≥ " : "") + mean_cell(row.time, 1) + " | " +
           reached_cell(row.t90, row.reached90, row.ran) + " | " +
