@@ -200,7 +200,7 @@ int run_explore_bench(const ExploreOptions& o) {
   if (!o.quick) {
     scenes.push_back({"arena", "arena", "launch_cfg/scenes/test_arena.yaml", "ground", 240});
     scenes.push_back(
-        {"parking_lot", "parking_lot", "launch_cfg/scenes/parking_lot.yaml", "ground", 900});
+        {"parking_lot", "parking_lot", "launch_cfg/scenes/parking_lot.yaml", "ground", 1500});
     scenes.push_back(
         {"powerplant", "powerplant", "launch_cfg/scenes/powerplant.yaml", "multirotor", 900});
   }
