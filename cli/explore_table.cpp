@@ -88,27 +88,25 @@ std::string reached_cell(const std::vector<double>& values, size_t reached, size
 
 Result<ExploreRun, std::string> read_explore_metrics(std::string_view json_text, ExploreRun run,
                                                      const std::string& label) {
-  const Json j = Json::parse(json_text, nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded() || !j.is_object()) return make_unexpected(label + ": not a JSON object");
-  const auto reason = j.find("stop_reason");
-  if (reason == j.end() || !reason->is_string()) return make_unexpected(label + ": no stop_reason");
-  run.stop_reason = reason->get<std::string>();
+  // what a sweep reads too, then what only the benchmark does
+  auto common = read_sweep_metrics(json_text, SweepRun{}, label);
+  if (!common) return make_unexpected(common.error());
+  run.stop_reason = common->stop_reason;
   run.error.clear();
-  run.completion_time_s = number(j, "completion_time_s");
-  run.sim_time_s = number(j, "sim_time_s");
-  run.wall_time_s = number(j, "wall_time_s");
-  if (const auto t = j.find("time_to_coverage_reachable_s"); t != j.end() && t->is_object()) {
+  run.completion_time_s = common->completion_time_s;
+  run.sim_time_s = common->sim_time_s;
+  run.wall_time_s = common->wall_time_s;
+  run.coverage = common->coverage;
+  run.coverage_reachable = common->coverage_reachable;
+  run.rmse_m = common->rmse_m;
+  run.total_path_m = common->total_path_length_m;
+  run.contacts = static_cast<double>(common->collisions);
+  run.idle_share = common->idle_share;
+  run.t95_reachable_s = common->time_to_95_reachable_s;
+  run.compute_time = common->compute_time;
+  const Json j = Json::parse(json_text, nullptr, /*allow_exceptions=*/false);
+  if (const auto t = j.find("time_to_coverage_reachable_s"); t != j.end() && t->is_object())
     run.t90_reachable_s = number(*t, "90");
-    run.t95_reachable_s = number(*t, "95");
-  }
-  run.coverage = number(j, "coverage");
-  run.coverage_reachable = number(j, "coverage_reachable");
-  run.rmse_m = number(j, "rmse_m");
-  run.total_path_m = number(j, "total_path_length_m");
-  run.contacts = number(j, "collisions");
-  run.idle_share = number(j, "idle_share");
-  if (const auto c = j.find("compute_time"); c != j.end() && c->is_string())
-    run.compute_time = c->get<std::string>();
   if (const auto robots = j.find("robots"); robots != j.end() && robots->is_array()) {
     double sum = 0;
     size_t n = 0;
