@@ -47,15 +47,14 @@ void walk(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t0, 
   }
 }
 
-}  // namespace
-
-std::vector<uint32_t> visible_ises(const tsdf::MapSnapshot& snap, const IseIndex& ises,
+// visible_ises() on either reader: the TSDF's voxels (VoxelReader) or their compact states
+// (StateGrid::Reader); both give the same states, so the same result.
+template <class Reader>
+std::vector<uint32_t> visible_with(Reader reader, double r, const IseIndex& ises,
                                    const RobotTypeSpec& type, int rows, int cols,
                                    const Eigen::Vector3d& position, double yaw_rad) {
   std::vector<uint32_t> seen;
   if (ises.empty()) return seen;
-  VoxelReader reader(snap);
-  const double r = snap.voxel_m();
   const double th = std::tan(0.5 * type.fov_h_deg * kDegToRad);
   const double tv = std::tan(0.5 * type.fov_v_deg * kDegToRad);
   const Eigen::Vector3d forward(std::cos(yaw_rad), std::sin(yaw_rad), 0);
@@ -92,6 +91,21 @@ std::vector<uint32_t> visible_ises(const tsdf::MapSnapshot& snap, const IseIndex
   std::sort(seen.begin(), seen.end());
   seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
   return seen;
+}
+
+}  // namespace
+
+std::vector<uint32_t> visible_ises(const tsdf::MapSnapshot& snap, const IseIndex& ises,
+                                   const RobotTypeSpec& type, int rows, int cols,
+                                   const Eigen::Vector3d& position, double yaw_rad) {
+  return visible_with(VoxelReader(snap), snap.voxel_m(), ises, type, rows, cols, position, yaw_rad);
+}
+
+std::vector<uint32_t> visible_ises(const StateGrid& states, double voxel_m, const IseIndex& ises,
+                                   const RobotTypeSpec& type, int rows, int cols,
+                                   const Eigen::Vector3d& position, double yaw_rad) {
+  return visible_with(StateGrid::Reader(states), voxel_m, ises, type, rows, cols, position,
+                      yaw_rad);
 }
 
 void view_bounds(const RobotTypeSpec& type, const Eigen::Vector3d& position, double yaw_rad,

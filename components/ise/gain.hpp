@@ -15,11 +15,16 @@
 #include "components/ise/ise.hpp"
 #include "components/ise/ise_config.hpp"
 #include "components/ise/ise_index.hpp"
+#include "components/ise/state_grid.hpp"
 
 namespace scancrew::ise {
 
 // The ISEs seen from a camera at `position` looking along `yaw_rad`, sorted, unique.
 std::vector<uint32_t> visible_ises(const tsdf::MapSnapshot& snap, const IseIndex& ises,
+                                   const RobotTypeSpec& type, int rows, int cols,
+                                   const Eigen::Vector3d& position, double yaw_rad);
+// The same on the map's compact states (state_grid.hpp): what IsePipeline calls.
+std::vector<uint32_t> visible_ises(const StateGrid& states, double voxel_m, const IseIndex& ises,
                                    const RobotTypeSpec& type, int rows, int cols,
                                    const Eigen::Vector3d& position, double yaw_rad);
 

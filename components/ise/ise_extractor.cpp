@@ -194,6 +194,12 @@ void IseExtractor::on_map(const tsdf::MapUpdate& update) {
   ++updates_;
   ms_sum_ += r.stats.total_ms;
   ms_max_ = std::max(ms_max_, r.stats.total_ms);
+  stage_sum_.extract_ms += r.stats.extract_ms;
+  stage_sum_.viewpoints_ms += r.stats.viewpoints_ms;
+  stage_sum_.visibility_ms += r.stats.visibility_ms;
+  stage_sum_.cluster_ms += r.stats.cluster_ms;
+  stage_sum_.visibility_computed += r.stats.visibility_computed;
+  stage_sum_.visibility_reused += r.stats.visibility_reused;
   publish(r, update.header.stamp_ns);
   if (r.complete && !completion_logged_) {
     completion_logged_ = true;
@@ -246,10 +252,13 @@ void IseExtractor::publish(const IseResult& r, int64_t stamp_ns) {
 void IseExtractor::on_deactivate() {
   const IseResult* r = last();
   SCANCREW_LOG_INFO(
-      "%s: %llu map updates (%.1f ms mean, %.1f max); last: %zu ISEs, %zu in C_rem, %zu "
-      "viewpoints, %zu clusters%s",
+      "%s: %llu map updates (%.1f ms mean, %.1f max; in all %.0f ms extracting, %.0f "
+      "viewpoints, %.0f visibility of %zu viewpoints (%zu reused), %.0f clusters); last: %zu "
+      "ISEs, %zu in C_rem, %zu viewpoints, %zu clusters%s",
       qualified_name().c_str(), static_cast<unsigned long long>(updates_),
-      updates_ > 0 ? ms_sum_ / static_cast<double>(updates_) : 0.0, ms_max_, r ? r->ises.size() : 0,
+      updates_ > 0 ? ms_sum_ / static_cast<double>(updates_) : 0.0, ms_max_, stage_sum_.extract_ms,
+      stage_sum_.viewpoints_ms, stage_sum_.visibility_ms, stage_sum_.visibility_computed,
+      stage_sum_.visibility_reused, stage_sum_.cluster_ms, r ? r->ises.size() : 0,
       r ? r->remaining.size() : 0, r ? r->viewpoints.size() : 0, r ? r->clusters.size() : 0,
       r && r->complete ? ", complete" : "");
   if (r != nullptr && !config_.ply_path.empty()) {

@@ -78,6 +78,7 @@ class IseExtractor final : public Component {
   Publisher<msg::ViewpointClusters> clusters_;
   uint64_t updates_ = 0;
   double ms_sum_ = 0, ms_max_ = 0;
+  IseStats stage_sum_;  // the stages' times summed over the updates (ms)
   bool failed_ = false, completion_logged_ = false;
   struct RobotPose {
     bool seen = false;

@@ -63,6 +63,7 @@ const IseResult& IsePipeline::full(const tsdf::MapSnapshot& snap) {
   std::vector<BlockIndex> all;
   all.reserve(snap.block_count());
   for (const auto& [index, block] : snap.blocks()) all.push_back(index);
+  states_.rebuild(snap);
   run(snap, all, true);
   return result_;
 }
@@ -74,6 +75,7 @@ const IseResult& IsePipeline::update(const tsdf::MapSnapshot& snap) {
   // or not they held ISEs (their voxels turn unknown next to their neighbours' voxels)
   for (const BlockIndex& index : blocks_)
     if (snap.block(index) == nullptr) changed.push_back(index);
+  states_.refresh(snap, changed);
   run(snap, changed, false);
   return result_;
 }
@@ -151,14 +153,14 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
                                                bc.candidates[i].position, snap.voxel_m()))) != 0))
         to_check.emplace_back(&bc, i);
     }
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, to_check.size(), 16),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i != r.end(); ++i) {
-                        auto& [bc, j] = to_check[i];
-                        const Viewpoint& c = bc->candidates[j];
-                        bc->feasible[j] = feasible(snap, spec(c.type), c.position) ? 1 : 0;
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, to_check.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+          auto& [bc, j] = to_check[i];
+          const Viewpoint& c = bc->candidates[j];
+          bc->feasible[j] = feasible(states_, snap.voxel_m(), spec(c.type), c.position) ? 1 : 0;
+        }
+      });
 
   // 3. the ISE list, in block order, and the feasible candidates with global ISE indices
   IseResult out;
@@ -197,7 +199,7 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
                         Viewpoint& v = out.viewpoints[i];
                         v.types = type_bit(v.type);
                         for (const RobotTypeSpec& t : config_.robot_types)
-                          if (t.type != v.type && feasible(snap, t, v.position))
+                          if (t.type != v.type && feasible(states_, snap.voxel_m(), t, v.position))
                             v.types |= type_bit(t.type);
                       }
                     });
@@ -219,18 +221,18 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
       compute.push_back(i);
   }
   std::vector<Seen> computed(compute.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, compute.size(), 4),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i != r.end(); ++i) {
-                        const Viewpoint& v = out.viewpoints[compute[i]];
-                        const RobotTypeSpec& t = spec(v.type);
-                        Seen& s = computed[i];
-                        view_bounds(t, v.position, v.yaw_rad, block_m, s.lo, s.hi);
-                        for (uint32_t id : visible_ises(snap, index, t, config_.gain_rows,
-                                                        config_.gain_cols, v.position, v.yaw_rad))
-                          s.ises.push_back(out.ises[id].voxel);
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, compute.size(), 4), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+          const Viewpoint& v = out.viewpoints[compute[i]];
+          const RobotTypeSpec& t = spec(v.type);
+          Seen& s = computed[i];
+          view_bounds(t, v.position, v.yaw_rad, block_m, s.lo, s.hi);
+          for (uint32_t id : visible_ises(states_, snap.voxel_m(), index, t, config_.gain_rows,
+                                          config_.gain_cols, v.position, v.yaw_rad))
+            s.ises.push_back(out.ises[id].voxel);
+        }
+      });
   for (size_t i = 0; i < out.viewpoints.size(); ++i) {
     if (cached[i] == nullptr) continue;
     for (const VoxelIndex& v : cached[i]->ises)

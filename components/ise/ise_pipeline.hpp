@@ -114,6 +114,7 @@ class IsePipeline {
   bool had_ises_ = false;
   int empty_updates_ = 0;
   std::vector<BlockIndex> blocks_;  // the last snapshot's blocks, to notice removed ones
+  StateGrid states_;                // the last snapshot's voxel states, compact
   std::map<BlockIndex, std::vector<Ise>, BlockOrder> ises_;
   std::map<BlockIndex, BlockCandidates, BlockOrder> candidates_;
   std::unordered_map<PoseKey, Seen, PoseKeyHash> seen_;

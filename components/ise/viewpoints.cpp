@@ -59,10 +59,12 @@ std::optional<Viewpoint> candidate(const Ise& ise, const RobotTypeSpec& type) {
   return vp;
 }
 
-bool feasible(const tsdf::MapSnapshot& snap, const RobotTypeSpec& type,
-              const Eigen::Vector3d& position) {
-  const double r = snap.voxel_m();
-  VoxelReader reader(snap);
+namespace {
+
+// feasible() on either reader (VoxelReader or StateGrid::Reader: the same states).
+template <class Reader>
+bool feasible_with(Reader reader, double r, const RobotTypeSpec& type,
+                   const Eigen::Vector3d& position) {
   const int reach = static_cast<int>(std::ceil(type.clearance_m / r));
   const tsdf::VoxelIndex c = tsdf::voxel_of(position, r);
   const tsdf::VoxelState own = reader.state(c);
@@ -98,6 +100,18 @@ bool feasible(const tsdf::MapSnapshot& snap, const RobotTypeSpec& type,
         if (!free(c + tsdf::VoxelIndex(x, y, z))) return false;
       }
   return true;
+}
+
+}  // namespace
+
+bool feasible(const tsdf::MapSnapshot& snap, const RobotTypeSpec& type,
+              const Eigen::Vector3d& position) {
+  return feasible_with(VoxelReader(snap), snap.voxel_m(), type, position);
+}
+
+bool feasible(const StateGrid& states, double voxel_m, const RobotTypeSpec& type,
+              const Eigen::Vector3d& position) {
+  return feasible_with(StateGrid::Reader(states), voxel_m, type, position);
 }
 
 std::vector<Viewpoint> merge(const tsdf::MapSnapshot& snap, const IseConfig& config,

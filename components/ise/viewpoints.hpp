@@ -26,6 +26,7 @@
 
 #include "components/ise/ise.hpp"
 #include "components/ise/ise_config.hpp"
+#include "components/ise/state_grid.hpp"
 
 namespace scancrew::ise {
 
@@ -47,6 +48,9 @@ std::optional<Viewpoint> candidate(const Ise& ise, const RobotTypeSpec& type);
 
 // Whether a robot of this type can stand at the position (clearance, known free space).
 bool feasible(const tsdf::MapSnapshot& snap, const RobotTypeSpec& type,
+              const Eigen::Vector3d& position);
+// The same on the map's compact states (state_grid.hpp): what IsePipeline calls.
+bool feasible(const StateGrid& states, double voxel_m, const RobotTypeSpec& type,
               const Eigen::Vector3d& position);
 
 // Merges feasible candidates of the same type (greedy, in input order, so deterministic).
