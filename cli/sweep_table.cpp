@@ -76,6 +76,19 @@ std::string runs_cell(const SweepRow& row) {
   return s;
 }
 
+// "72 / 16 / 0 / 0 / 1 / 11 / 0 / 0": the activities' mean shares (%), "—" without any.
+std::string shares_cell(const SweepRow& row) {
+  std::string cell;
+  for (size_t a = 0; a < row.time_share_pct.size(); ++a) {
+    const MeanStd& s = row.time_share_pct[a];
+    if (s.n == 0) return "—";
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "%.0f", s.mean);
+    cell += (a > 0 ? " / " : "") + std::string(buf);
+  }
+  return cell;
+}
+
 std::string ratio_cell(const TimeRatio& r) {
   switch (r.bound) {
     case TimeRatio::Bound::kExact:
@@ -126,6 +139,11 @@ Result<SweepRun, std::string> read_sweep_metrics(std::string_view json_text, Swe
   run.coverage_reachable = number_at(j, "coverage_reachable");
   run.idle_share = number_at(j, "idle_share");
   run.tours_per_goal = number_at(j, "tours_per_goal");
+  run.m_per_goal = number_at(j, "m_per_goal");
+  if (const auto t = j.find("time_share"); t != j.end() && t->is_object())
+    for (size_t a = 0; a < mission::kActivityCount; ++a)
+      run.time_share[a] =
+          number_at(*t, std::string(mission::to_string(mission::Activity(a))).c_str());
   if (const auto t = j.find("time_to_coverage_reachable_s"); t != j.end() && t->is_object())
     run.time_to_95_reachable_s = number_at(*t, "95");
   if (const auto c = j.find("compute_time"); c != j.end() && c->is_string())
@@ -164,7 +182,8 @@ std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
     if (!r.scene.empty()) scene_of_arch.emplace(r.arch, r.scene);
 
   struct Values {
-    std::vector<double> time, coverage, rmse, path, data, reachable, idle;
+    std::vector<double> time, coverage, rmse, path, data, reachable, idle, t95, tours, m_goal;
+    std::array<std::vector<double>, mission::kActivityCount> share;
   };
   std::vector<SweepRow> rows;
   std::vector<Values> values;
@@ -206,6 +225,11 @@ std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
       v.data.push_back(r.data_exchanged_bytes / 1e6);
       v.reachable.push_back(100.0 * r.coverage_reachable);
       v.idle.push_back(100.0 * r.idle_share);
+      v.t95.push_back(r.time_to_95_reachable_s);
+      v.tours.push_back(r.tours_per_goal);
+      v.m_goal.push_back(r.m_per_goal);
+      for (size_t a = 0; a < mission::kActivityCount; ++a)
+        v.share[a].push_back(100.0 * r.time_share[a]);
       row.collisions += r.collisions;
     }
   }
@@ -217,6 +241,11 @@ std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
     rows[i].data_mb = mean_std(values[i].data);
     rows[i].coverage_reachable_pct = mean_std(values[i].reachable);
     rows[i].idle_pct = mean_std(values[i].idle);
+    rows[i].t95_reachable_s = mean_std(values[i].t95);
+    rows[i].tours_per_goal = mean_std(values[i].tours);
+    rows[i].m_per_goal = mean_std(values[i].m_goal);
+    for (size_t a = 0; a < mission::kActivityCount; ++a)
+      rows[i].time_share_pct[a] = mean_std(values[i].share[a]);
   }
   return rows;
 }
@@ -246,11 +275,13 @@ std::string format_sweep_csv(const std::vector<SweepRun>& runs) {
   std::string csv =
       "arch,robots,seed,stop_reason,completion_time_s,sim_time_s,wall_time_s,coverage,"
       "mean_error_m,rmse_m,total_path_length_m,data_exchanged_bytes,collisions,replans,"
-      "coverage_reachable,idle_share,time_to_95_reachable_s,tours_per_goal,compute_time,scene,"
-      "run_dir,error\n";
+      "coverage_reachable,idle_share,time_to_95_reachable_s,tours_per_goal,m_per_goal,";
+  for (size_t a = 0; a < mission::kActivityCount; ++a)
+    csv += "share_" + std::string(mission::to_string(mission::Activity(a))) + ",";
+  csv += "compute_time,scene,run_dir,error\n";
   for (const SweepRun& r : runs) {
     const bool measured = outcome_of(r) != RunOutcome::kFailed;
-    const std::vector<std::string> fields = {
+    std::vector<std::string> fields = {
         csv_field(r.arch),
         std::to_string(r.robots),
         std::to_string(r.seed),
@@ -269,11 +300,16 @@ std::string format_sweep_csv(const std::vector<SweepRun>& runs) {
         csv_number(r.idle_share),
         csv_number(r.time_to_95_reachable_s),
         csv_number(r.tours_per_goal),
-        csv_field(r.compute_time),
-        csv_field(r.scene),
-        csv_field(r.run_dir),
-        csv_field(r.error),
+        csv_number(r.m_per_goal),
     };
+    for (const double share : r.time_share) fields.push_back(csv_number(share));
+    for (std::string& f : std::vector<std::string>{
+             csv_field(r.compute_time),
+             csv_field(r.scene),
+             csv_field(r.run_dir),
+             csv_field(r.error),
+         })
+      fields.push_back(std::move(f));
     for (size_t i = 0; i < fields.size(); ++i) csv += (i > 0 ? "," : "") + fields[i];
     csv += "\n";
   }
@@ -292,9 +328,12 @@ std::string format_sweep_markdown(const std::vector<SweepRun>& runs, const std::
     md += "\n\n";
     md +=
         "| architecture | robots | completed / runs | time (s) | time vs 1 robot | "
-        "coverage (%) | reachable (%) | RMSE (mm) | total path (m) | data exchanged (MB) | "
-        "idle (%) | collisions |\n";
-    md += "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+        "coverage (%) | reachable (%) | 95 % reachable (s) | RMSE (mm) | total path (m) | "
+        "data exchanged (MB) | tours / goal | m / goal | time: drive / turn / traffic / wait / "
+        "back off / idle open / idle done / lost (%) | collisions |\n";
+    md +=
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | "
+        "---: | ---: | ---: |\n";
     bool lower_bound = false, left_out = false;
     for (const SweepRow& row : rows) {
       if (row.scene != scene) continue;
@@ -309,8 +348,10 @@ std::string format_sweep_markdown(const std::vector<SweepRun>& runs, const std::
       md += "| " + md_cell(row.arch) + " | " + std::to_string(row.robots) + " | " + runs_cell(row) +
             " | " + time + " | " + ratio + " | " + format_mean_std(row.coverage_pct, 2) + " | " +
             format_mean_std(row.coverage_reachable_pct, 2) + " | " +
-            format_mean_std(row.rmse_mm, 1) + " | " + format_mean_std(row.path_m, 1) + " | " +
-            format_mean_std(row.data_mb, 2) + " | " + format_mean_std(row.idle_pct, 0) + " | " +
+            format_mean_std(row.t95_reachable_s, 0) + " | " + format_mean_std(row.rmse_mm, 1) +
+            " | " + format_mean_std(row.path_m, 1) + " | " + format_mean_std(row.data_mb, 2) +
+            " | " + format_mean_std(row.tours_per_goal, 1) + " | " +
+            format_mean_std(row.m_per_goal, 1) + " | " + shares_cell(row) + " | " +
             std::to_string(row.collisions) + " |\n";
     }
     md +=
@@ -318,8 +359,11 @@ std::string format_sweep_markdown(const std::vector<SweepRun>& runs, const std::
         "the mission completed. Time vs 1 robot: the row's mean time in % of the single "
         "robot's (ref.; without a single-architecture row, the same architecture's with 1 "
         "robot). Reachable: coverage of the surface the team's robot kinds can observe "
-        "(docs/evaluation.md). Idle: the robots' mean share of the mission idle (ISEs open or "
-        "done). Collisions: robot-scene and robot-robot contacts, summed over the runs.\n";
+        "(docs/evaluation.md); 95 % reachable: when the monitor's estimate of it reached "
+        "95 %, over the runs that reached it. Tours / goal: tours planned per goal reached "
+        "(plan churn); m / goal: metres driven per goal reached. Time: the robots' mean "
+        "shares of the mission (docs/missions.md, \"Where the time goes\"), means over the "
+        "runs. Collisions: robot-scene and robot-robot contacts, summed over the runs.\n";
     if (lower_bound)
       md +=
           "\n≥: a run of the row did not complete (time budget or stall); its simulated time "

@@ -7,6 +7,7 @@
 // Table 5.4 (5.5 Results): completion time, time against the single robot's, coverage,
 // RMSE, total path length, data exchanged. Pure functions: no files, no clock.
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -15,10 +16,16 @@
 #include <vector>
 
 #include "executors/result.hpp"
+#include "mission/time_breakdown.hpp"
 
 namespace scancrew::cli {
 
 inline constexpr double kNoValue = NAN;  // a metric metrics.json did not give (null, absent)
+inline std::array<double, mission::kActivityCount> no_time_share() {
+  std::array<double, mission::kActivityCount> a;
+  a.fill(kNoValue);
+  return a;
+}
 
 struct SweepRun {
   // what was run
@@ -45,6 +52,10 @@ struct SweepRun {
   double idle_share = kNoValue;          // mean over the robots, in [0, 1]
   double time_to_95_reachable_s = kNoValue;
   double tours_per_goal = kNoValue;
+  double m_per_goal = kNoValue;
+  // metrics.json's time_share: the robots' mean share of the mission per activity
+  // (mission/time_breakdown.hpp's order), each in [0, 1]
+  std::array<double, mission::kActivityCount> time_share = no_time_share();
   std::string compute_time;  // charged | free
 };
 
@@ -81,6 +92,8 @@ struct SweepRow {
   bool time_is_lower_bound = false;  // an incomplete run is in time_s
   MeanStd coverage_pct, rmse_mm, path_m, data_mb;
   MeanStd coverage_reachable_pct, idle_pct;
+  MeanStd t95_reachable_s, tours_per_goal, m_per_goal;
+  std::array<MeanStd, mission::kActivityCount> time_share_pct;
   uint64_t collisions = 0;  // summed over the runs
 };
 

@@ -202,12 +202,14 @@ TEST(SweepTable, CsvHasARowPerRunWithEmptyFieldsForMissingValues) {
   EXPECT_EQ(lines[0],
             "arch,robots,seed,stop_reason,completion_time_s,sim_time_s,wall_time_s,coverage,"
             "mean_error_m,rmse_m,total_path_length_m,data_exchanged_bytes,collisions,replans,"
-            "coverage_reachable,idle_share,time_to_95_reachable_s,tours_per_goal,compute_time,"
-            "scene,run_dir,error");
+            "coverage_reachable,idle_share,time_to_95_reachable_s,tours_per_goal,m_per_goal,"
+            "share_driving,share_turning,share_traffic,share_waiting,share_backing_off,"
+            "share_idle_open,share_idle_done,share_lost,compute_time,scene,run_dir,error");
   EXPECT_EQ(lines[1],
-            "distributed,2,1,complete,102.5,102.5,10.25,0.9932,0.001,0.0075,80,3500000,0,0,,,,,,"
-            "launch_cfg/scenes/test_arena.yaml,runs/sweep/distributed_r2_s1,");
-  EXPECT_EQ(lines[2], "single,1,1,failed,,,,,,,,,,,,,,,,,,\"exited with status 2, see above\"");
+            "distributed,2,1,complete,102.5,102.5,10.25,0.9932,0.001,0.0075,80,3500000,0,0,,,,,,,,,"
+            ",,,,,,launch_cfg/scenes/test_arena.yaml,runs/sweep/distributed_r2_s1,");
+  EXPECT_EQ(lines[2],
+            "single,1,1,failed,,,,,,,,,,,,,,,,,,,,,,,,,,,\"exited with status 2, see above\"");
 }
 
 TEST(SweepTable, MarkdownHasATableRowPerArchitectureAndTeam) {
@@ -226,21 +228,53 @@ TEST(SweepTable, MarkdownHasATableRowPerArchitectureAndTeam) {
   EXPECT_EQ(lines[2], "## Scene `launch_cfg/scenes/test_arena.yaml`");
   EXPECT_EQ(lines[4],
             "| architecture | robots | completed / runs | time (s) | time vs 1 robot | "
-            "coverage (%) | reachable (%) | RMSE (mm) | total path (m) | data exchanged (MB) | "
-            "idle (%) | collisions |");
-  EXPECT_EQ(
-      lines[6],
-      "| single | 1 | 0/2 | ≥ 240.0 ± 0.0 | ref. | 98.40 ± 0.14 | — | 7.5 ± 0.0 | 40.0 ± 0.0 | "
-      "0.00 ± 0.00 | — | 0 |");
+            "coverage (%) | reachable (%) | 95 % reachable (s) | RMSE (mm) | total path (m) | "
+            "data exchanged (MB) | tours / goal | m / goal | time: drive / turn / traffic / wait / "
+            "back off / idle open / idle done / lost (%) | collisions |");
+  EXPECT_EQ(lines[6],
+            "| single | 1 | 0/2 | ≥ 240.0 ± 0.0 | ref. | 98.40 ± 0.14 | — | — | 7.5 ± 0.0 | "
+            "40.0 ± 0.0 | 0.00 ± 0.00 | — | — | — | 0 |");
   // the single robot ran out of time: the team needs at most 42.9 % of its time
   EXPECT_EQ(lines[7],
-            "| distributed | 2 | 2/2 | 103.0 ± 4.2 | ≤ 43 % | 99.40 ± 0.14 | — | 7.5 ± 0.0 | "
-            "80.0 ± 0.0 | 3.50 ± 0.00 | — | 0 |");
+            "| distributed | 2 | 2/2 | 103.0 ± 4.2 | ≤ 43 % | 99.40 ± 0.14 | — | — | 7.5 ± 0.0 | "
+            "80.0 ± 0.0 | 3.50 ± 0.00 | — | — | — | 0 |");
   EXPECT_EQ(lines[8],
-            "| distributed | 4 | 1/2 (1 failed) | 70.0 | ≤ 29 % | 99.00 | — | 7.5 | 160.0 | 3.50 | "
-            "— | 0 |");
+            "| distributed | 4 | 1/2 (1 failed) | 70.0 | ≤ 29 % | 99.00 | — | — | 7.5 | 160.0 | "
+            "3.50 | — | — | — | 0 |");
   EXPECT_NE(md.find("\n≥: a run of the row did not complete"), std::string::npos);
   EXPECT_NE(md.find("Failed runs (no metrics.json) and interrupted runs"), std::string::npos);
+}
+
+TEST(SweepTable, WhereTheTimeGoesIsReadAndAveragedOverTheRuns) {
+  auto run = read_sweep_metrics(
+      R"({"stop_reason": "complete", "completion_time_s": 100, "sim_time_s": 100,
+          "coverage": 0.99, "tours_per_goal": 2.5, "m_per_goal": 4.0,
+          "time_to_coverage_reachable_s": {"50": 20, "90": 60, "95": 80},
+          "time_share": {"driving": 0.7, "turning": 0.1, "traffic": 0.05, "waiting": 0.05,
+                         "backing_off": 0.0, "idle_open": 0.1, "idle_done": 0.0, "lost": 0.0}})",
+      {.arch = "centralized", .robots = 2, .seed = 1}, "m.json");
+  ASSERT_TRUE(run) << run.error();
+  EXPECT_DOUBLE_EQ(run->m_per_goal, 4.0);
+  EXPECT_DOUBLE_EQ(run->time_share[static_cast<size_t>(mission::Activity::kTraffic)], 0.05);
+  EXPECT_DOUBLE_EQ(run->time_share[static_cast<size_t>(mission::Activity::kIdleOpen)], 0.1);
+  SweepRun other = *run;
+  other.seed = 2;
+  other.time_share[static_cast<size_t>(mission::Activity::kDriving)] = 0.5;
+  other.time_share[static_cast<size_t>(mission::Activity::kIdleOpen)] = 0.3;
+  other.tours_per_goal = 3.5;
+  other.time_to_95_reachable_s = 100;
+  const std::vector<SweepRun> runs = {*run, other};
+  const auto rows = aggregate_sweep(runs);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_DOUBLE_EQ(rows[0].time_share_pct[0].mean, 60.0);
+  EXPECT_DOUBLE_EQ(rows[0].tours_per_goal.mean, 3.0);
+  EXPECT_DOUBLE_EQ(rows[0].t95_reachable_s.mean, 90.0);
+  const auto lines = lines_of(format_sweep_markdown(runs, "t"));
+  ASSERT_GE(lines.size(), 7u);
+  EXPECT_NE(lines[6].find("| 90 ± 14 |"), std::string::npos) << lines[6];
+  EXPECT_NE(lines[6].find("| 3.0 ± 0.7 | 4.0 ± 0.0 | 60 / 10 / 5 / 5 / 0 / 20 / 0 / 0 | 0 |"),
+            std::string::npos)
+      << lines[6];
 }
 
 TEST(SweepTable, WithoutASingleRowTheTeamOfOneIsTheReference) {
