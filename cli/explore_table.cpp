@@ -1,5 +1,6 @@
 #include "cli/explore_table.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -107,6 +108,10 @@ Result<ExploreRun, std::string> read_explore_metrics(std::string_view json_text,
   const Json j = Json::parse(json_text, nullptr, /*allow_exceptions=*/false);
   if (const auto t = j.find("time_to_coverage_reachable_s"); t != j.end() && t->is_object())
     run.t90_reachable_s = number(*t, "90");
+  if (const auto places = j.find("places"); places != j.end() && places->is_array())
+    for (const Json& p : *places)
+      if (const auto name = p.find("place"); name != p.end() && name->is_string())
+        run.places.push_back(name->get<std::string>());
   if (const auto robots = j.find("robots"); robots != j.end() && robots->is_array()) {
     double sum = 0;
     size_t n = 0;
@@ -135,6 +140,9 @@ std::string check_explore_run(const ExploreRun& r) {
            " s) does not sum to the mission time (" + csv_number(r.sim_time_s) + " s)";
   if (r.compute_time != "charged")
     return who + "compute_time is '" + r.compute_time + "', not charged";
+  if (r.arch == "single" &&
+      std::find(r.places.begin(), r.places.end(), "station") != r.places.end())
+    return who + "a single robot's compute was charged on a ground station (run.station)";
   return {};
 }
 

@@ -43,6 +43,7 @@ struct ExploreRun {
   double breakdown_sum_s = kNoValue;  // the robots' time breakdowns, summed over activities,
                                       // mean over robots (= sim_time_s)
   std::string compute_time;
+  std::vector<std::string> places;  // the computers compute was charged on (metrics.json)
 
   bool completed() const { return stop_reason == "complete"; }
   bool ran() const { return stop_reason != "failed" && !stop_reason.empty(); }

@@ -142,6 +142,8 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   run["sim_step_s"] = number(0.05);
   run["progress_period_s"] = number(20.0);
   if (!s.compute_time.empty()) run["compute_time"] = s.compute_time;
+  // one robot alone has no ground station: its map, ISEs and plans run on board
+  if (s.arch == "single") run["station"] = false;
   root["run"] = run;
   for (size_t i = 0; i < s.robots; ++i) {
     YAML::Node r(YAML::NodeType::Map);

@@ -174,6 +174,7 @@ class LaunchBuilder {
     uint64_t cores = 2;
     run.optional("place_cores", cores, {1, 1024});
     s.charge.cores = static_cast<int>(cores);
+    run.optional("station", s.station);
     run.finish();
     merge(run);
     if (compute_time_ == "charged" && s.executor != LaunchSettings::ExecutorType::kStep)
@@ -424,6 +425,13 @@ class LaunchBuilder {
         return;
       }
     }
+    if (!s.station && robots_.size() != 1) {
+      errors_.push_back(file_ +
+                        ": run.station: false puts the station's components on the one "
+                        "robot's computer; this run has " +
+                        std::to_string(robots_.size()) + " robots");
+      return;
+    }
     for (const ComponentSpec& spec : specs_) {
       const std::vector<RobotSpec> owners = spec.per_robot ? own : std::vector<RobotSpec>{{0, ""}};
       bool params_reported = false;
@@ -451,9 +459,13 @@ class LaunchBuilder {
         ParamReader params =
             make_param_reader(spec.params, file_, spec.path + ".params", std::move(names));
         const ComponentRegistry::Entry* entry = registry.find(spec.type);
-        // a per-robot component runs on its robot; the others on the ground station, but
-        // for the world's (the simulator, the mission's instruments)
-        std::string place = entry->world ? "" : spec.per_robot ? robot.ns : "station";
+        // a per-robot component runs on its robot; the others on the ground station (or,
+        // without one, on the one robot), but for the world's (the simulator, the mission's
+        // instruments)
+        std::string place = entry->world     ? ""
+                            : spec.per_robot ? robot.ns
+                            : s.station      ? "station"
+                                             : robots_.front().ns;
         auto made = entry->factory(std::move(ctx), params);
         if (!made) {
           // the same parameters go to every robot: report them once

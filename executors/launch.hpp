@@ -44,6 +44,10 @@ struct LaunchSettings {
   // process, free otherwise. run.compute_scale, run.place_cores: the computers modelled.
   ComputeTime compute_time = ComputeTime::kFree;
   ComputeCharge charge;
+  // run.station: whether the components that are not per robot run on a ground station's
+  // computer (a place of their own); false: on the one robot's (a single-robot mission,
+  // everything on board). Only a launch with one robot may say false.
+  bool station = true;
 };
 
 // What the command line adds to a launch file.

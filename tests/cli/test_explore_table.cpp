@@ -24,7 +24,7 @@ std::string metrics(const std::string& reason, double sim_s, double completion_s
          "\"idle_share\": 0.1, \"compute_time\": \"" +
          compute +
          "\", \"time_to_coverage_reachable_s\": {\"50\": 10, \"90\": 40, \"95\": null}, "
-         "\"robots\": [{\"time_s\": " +
+         "\"places\": [{\"place\": \"r1\"}, {\"place\": \"r2\"}], \"robots\": [{\"time_s\": " +
          time + "}, {\"time_s\": " + time + "}]}";
 }
 
@@ -49,6 +49,7 @@ TEST(ExploreTable, ReadsTheMetricsOfARun) {
   EXPECT_DOUBLE_EQ(r->coverage_reachable, 0.95);
   EXPECT_DOUBLE_EQ(r->breakdown_sum_s, 250);
   EXPECT_EQ(r->compute_time, "charged");
+  EXPECT_EQ(r->places, (std::vector<std::string>{"r1", "r2"}));
   EXPECT_FALSE(read_explore_metrics("[1]", planned("indoor", 1, "single"), "m"));
   EXPECT_FALSE(read_explore_metrics("{}", planned("indoor", 1, "single"), "m"));
 }
@@ -64,6 +65,9 @@ TEST(ExploreTable, TheQuickCheckFindsInconsistentMetrics) {
   auto free = read_explore_metrics(metrics("complete", 150, 150, 150, "free"),
                                    planned("indoor", 1, "single"), "m");
   EXPECT_NE(check_explore_run(*free).find("not charged"), std::string::npos);
+  ExploreRun on_station = *ok;
+  on_station.places = {"r1", "station"};
+  EXPECT_NE(check_explore_run(on_station).find("ground station"), std::string::npos);
   ExploreRun crashed = *ok;
   crashed.exit_status = 134;
   EXPECT_NE(check_explore_run(crashed).find("status 134"), std::string::npos);

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 #include "tests/executors/test_components.hpp"
@@ -398,6 +400,43 @@ components:
   EXPECT_TRUE(named);
   auto out_of_range = Launch::from_string(text, "set.yaml", {.overrides = {"run.duration_s=-1"}});
   EXPECT_FALSE(out_of_range);
+}
+
+// Which computer each component runs on (docs/runtime.md, "Compute-charged time").
+std::vector<std::string> place_names(const Launch& launch) {
+  std::vector<std::string> names;
+  for (const PlaceStats& p : launch.place_stats()) names.push_back(p.name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+TEST(Launch, WithoutAStationTheOneRobotRunsTheStationsComponents) {
+  const std::string one_robot = R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: 0.1, sim_step_s: 0.05, compute_time: charged%s}
+robots:
+  - {id: 1, namespace: r1}
+components:
+  - {name: per, type: test_named}
+  - {name: shared, type: test_named, per_robot: false}
+)";
+  const auto with_run = [](std::string text, const std::string& run_extra) {
+    return text.replace(text.find("%s"), 2, run_extra);
+  };
+  auto with_station = Launch::from_string(with_run(one_robot, ""), "one.yaml");
+  ASSERT_TRUE(with_station) << with_station.error().front();
+  EXPECT_EQ(place_names(**with_station), (std::vector<std::string>{"r1", "station"}));
+  auto on_board = Launch::from_string(with_run(one_robot, ", station: false"), "one.yaml");
+  ASSERT_TRUE(on_board) << on_board.error().front();
+  EXPECT_EQ(place_names(**on_board), (std::vector<std::string>{"r1"}));
+  // a team has no "one robot" to put them on
+  std::string team = with_run(one_robot, ", station: false");
+  team.replace(team.find("components:"), 0, "  - {id: 2, namespace: r2}\n");
+  auto refused = Launch::from_string(team, "team.yaml");
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().front().find("run.station: false"), std::string::npos)
+      << refused.error().front();
 }
 
 // the labels of the per-robot test_named instances: "{ns}" of each robot that runs
