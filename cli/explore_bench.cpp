@@ -14,6 +14,7 @@
 #include "cli/child_process.hpp"
 #include "cli/explore_table.hpp"
 #include "cli/mission_compose.hpp"
+#include "cli/thesis_table.hpp"
 #include "executors/params_impl.hpp"
 #include "scenegen/scenegen.hpp"
 
@@ -228,10 +229,14 @@ int run_explore_bench(const ExploreOptions& o) {
                               (o.out_dir.empty() ? "" : " --out " + o.out_dir);
   const std::string title = std::string("bench explore") + (o.quick ? " --quick" : "") + ": " +
                             std::to_string(runs.size()) + " runs";
+  // the family table, and (the thesis's scenes are in the full set only) the thesis's rows
+  const auto markdown = [&] {
+    return format_explore_markdown(runs, title, command, machine_line()) +
+           (o.quick ? "" : "\n" + format_thesis_markdown(runs));
+  };
   const auto write_tables = [&] {
     std::ofstream(out / "explore.csv") << format_explore_csv(runs);
-    std::ofstream(out / "explore.md")
-        << format_explore_markdown(runs, title, command, machine_line());
+    std::ofstream(out / "explore.md") << markdown();
   };
 
   g_stop = 0;
@@ -303,7 +308,7 @@ int run_explore_bench(const ExploreOptions& o) {
   if (o.json)
     std::printf("%s", format_explore_json(runs).c_str());
   else
-    std::printf("%s", format_explore_markdown(runs, title, command, machine_line()).c_str());
+    std::printf("%s", markdown().c_str());
   std::fprintf(stderr, "%zu of %zu runs done (%zu from an earlier run) in %.1f min; %s, %s\n", done,
                runs.size(), resumed, minutes(), (out / "explore.md").c_str(),
                (out / "explore.csv").c_str());
