@@ -303,13 +303,8 @@ std::string format_sweep_csv(const std::vector<SweepRun>& runs) {
         csv_number(r.m_per_goal),
     };
     for (const double share : r.time_share) fields.push_back(csv_number(share));
-    for (std::string& f : std::vector<std::string>{
-             csv_field(r.compute_time),
-             csv_field(r.scene),
-             csv_field(r.run_dir),
-             csv_field(r.error),
-         })
-      fields.push_back(std::move(f));
+    fields.insert(fields.end(), {csv_field(r.compute_time), csv_field(r.scene),
+                                 csv_field(r.run_dir), csv_field(r.error)});
     for (size_t i = 0; i < fields.size(); ++i) csv += (i > 0 ? "," : "") + fields[i];
     csv += "\n";
   }
