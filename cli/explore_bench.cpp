@@ -220,13 +220,28 @@ int run_explore_bench(const ExploreOptions& o) {
   std::stable_partition(scenes.begin(), scenes.end(),
                         [](const BenchScene& s) { return s.name != "powerplant"; });
   std::vector<ExploreRun> runs = plan_runs(scenes, o.quick, out);
+  if (!o.only.empty()) {
+    std::erase_if(runs, [&](const ExploreRun& r) {
+      const std::string name = fs::path(r.run_dir).filename().string();
+      return std::none_of(o.only.begin(), o.only.end(), [&](const std::string& part) {
+        return name.find(part) != std::string::npos;
+      });
+    });
+    if (runs.empty()) {
+      std::fprintf(stderr, "scancrew bench explore: --only matches no run\n");
+      return 2;
+    }
+  }
   std::map<std::string, std::string> scene_path;
   for (const BenchScene& s : scenes) scene_path[s.name] = s.path;
 
   const size_t jobs = o.jobs > 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
+  std::string only;
+  for (const std::string& part : o.only) only += (only.empty() ? "" : ",") + part;
   const std::string command = std::string("scancrew bench explore") + (o.quick ? " --quick" : "") +
                               (o.jobs > 0 ? " --jobs " + std::to_string(o.jobs) : "") +
-                              (o.out_dir.empty() ? "" : " --out " + o.out_dir);
+                              (o.out_dir.empty() ? "" : " --out " + o.out_dir) +
+                              (only.empty() ? "" : " --only " + only);
   const std::string title = std::string("bench explore") + (o.quick ? " --quick" : "") + ": " +
                             std::to_string(runs.size()) + " runs";
   // the family table, and (the thesis's scenes are in the full set only) the thesis's rows

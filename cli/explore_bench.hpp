@@ -14,10 +14,11 @@
 // --quick: the smallest indoor and outdoor scenes of seeds 1-20, short budgets, fewer teams;
 // it fails (exit 1) when a run failed or wrote inconsistent metrics (check_explore_run).
 // Writes OUT/explore.md and OUT/explore.csv after every run; --json prints every run and
-// the summary rows.
+// the summary rows. --only: a subset of the runs (an A/B on some rows).
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace scancrew::cli {
 
@@ -26,6 +27,9 @@ struct ExploreOptions {
   bool quick = false;
   size_t jobs = 0;      // 0: the cores of this machine
   std::string out_dir;  // "": runs/bench_explore (runs/bench_explore_quick)
+  // not empty: only the runs whose name (<scene>_<arch>_r<N>) contains one of these; the
+  // tables then hold those runs only
+  std::vector<std::string> only;
 };
 
 int run_explore_bench(const ExploreOptions& options);

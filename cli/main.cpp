@@ -420,6 +420,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 64));
   explore_cmd->add_option("--out", explore_bench.out_dir,
                           "output folder (runs/bench_explore); a rerun resumes it");
+  explore_cmd
+      ->add_option("--only", explore_bench.only,
+                   "only the runs whose name (<scene>_<architecture>_r<robots>) contains one of "
+                   "these, comma-separated (e.g. powerplant_,indoor_1_centralized)")
+      ->delimiter(',');
 
   CLI11_PARSE(app, argc, argv);
 

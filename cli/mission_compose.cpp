@@ -22,8 +22,26 @@ struct ComponentPlan {
   YAML::Node remap;  // null: none
 };
 
+// A number as YAML writes it by hand (yaml-cpp would write 0.05 as 0.050000000000000003).
+YAML::Node number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return YAML::Node(std::string(buf));
+}
+
+// [x, y, z] in flow style.
+YAML::Node flow_vector(const msg::Vec3& v) {
+  YAML::Node n(YAML::NodeType::Sequence);
+  n.SetStyle(YAML::EmitterStyle::Flow);
+  n.push_back(number(v.x));
+  n.push_back(number(v.y));
+  n.push_back(number(v.z));
+  return n;
+}
+
 // The graph of an architecture, before the profile's parameters.
-std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, bool masked) {
+std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::SceneSpec& scene,
+                                              bool masked) {
   const bool centralized = s.arch == "centralized";
   const bool single = s.arch == "single";
   std::vector<ComponentPlan> g;
@@ -40,7 +58,13 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, bool masked)
   mapper.params["mesh_path"] = s.arch == "distributed" ? "{out}/mesh_{ns}.ply" : "{out}/mesh.ply";
   mapper.params["octomap_path"] = s.arch == "distributed" ? "{out}/map_{ns}.bt" : "{out}/map.bt";
   g.push_back(mapper);
-  g.push_back({.name = "ise", .type = "ise_extractor", .per_robot = !centralized});
+  // the ISE criterion's bound: the scene's bounds are the region to reconstruct. Outdoors
+  // the floor runs on past them, and its edge, with unknown space beyond, would stay an
+  // ISE for ever (docs/ise.md, "The region to reconstruct")
+  ComponentPlan ise{.name = "ise", .type = "ise_extractor", .per_robot = !centralized};
+  ise.params["region_min_m"] = flow_vector(scene.min_m);
+  ise.params["region_max_m"] = flow_vector(scene.max_m);
+  g.push_back(ise);
 
   ComponentPlan planner{
       .name = "planner", .type = "high_level_planner", .per_robot = !centralized && !single};
@@ -71,12 +95,6 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, bool masked)
   return g;
 }
 
-// A number as YAML writes it by hand (yaml-cpp would write 0.05 as 0.050000000000000003).
-YAML::Node number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return YAML::Node(std::string(buf));
-}
 
 // Merges the profile's section `key` (a mapping) into params; the graph's own keys win.
 void merge_section(const YAML::Node& profile, const std::string& key, YAML::Node& params) {
@@ -160,7 +178,7 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
     r.SetStyle(YAML::EmitterStyle::Flow);
     root["robots"].push_back(r);
   }
-  for (ComponentPlan& c : architecture_graph(s, s.robots > 1)) {
+  for (ComponentPlan& c : architecture_graph(s, *scene, s.robots > 1)) {
     merge_section(*profile, c.name, c.params);
     merge_section(*profile, c.name + "_" + s.arch, c.params);
     YAML::Node n(YAML::NodeType::Map);

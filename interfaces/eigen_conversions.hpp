@@ -3,6 +3,8 @@
 // Message geometry <-> Eigen, for the components that compute with poses (perception,
 // mapping, planning). Messages stay plain structs; algorithms use Eigen.
 
+#include <cmath>
+
 #include <Eigen/Geometry>
 
 #include "interfaces/geometry.hpp"
@@ -31,6 +33,12 @@ inline Quat to_msg(const Eigen::Quaterniond& q) {
 }
 inline Pose3 to_msg(const Eigen::Isometry3d& t) {
   return {to_msg(Eigen::Vector3d(t.translation())), to_msg(Eigen::Quaterniond(t.rotation()))};
+}
+
+// The heading of an orientation: the body x axis's angle in the world's xy plane (rad).
+inline double yaw_of(const Quat& q) {
+  const Eigen::Matrix3d r = to_eigen(q).toRotationMatrix();
+  return std::atan2(r(1, 0), r(0, 0));
 }
 
 }  // namespace scancrew::msg

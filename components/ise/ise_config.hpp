@@ -70,14 +70,17 @@ struct IseConfig {
   // completion: no inspectable ISE over this many consecutive updates
   int completion_updates = 3;
   // The region to reconstruct (world frame, m): only ISEs whose voxel centre lies in the
-  // box count (viewpoints may lie outside). Default: everywhere. The thesis scales the
+  // box grown by `pad_m` count (viewpoints may lie outside); the pipeline pads by one voxel,
+  // so that a surface on the box's faces (a wall at a scene's bounds, the floor at z = 0)
+  // stays in. Default: everywhere; a composed mission sets the scene's bounds. The thesis scales the
   // Powerplant into a 65 x 42 x 15 m box and scores within it; SGBM's false matches put
   // surface beyond a room's walls and under its floor (launch_cfg/missions/arena_stereo.yaml).
   Eigen::Vector3d region_min_m =
       Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
   Eigen::Vector3d region_max_m = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  bool in_region(const Eigen::Vector3d& p) const {
-    return (p.array() >= region_min_m.array()).all() && (p.array() <= region_max_m.array()).all();
+  bool in_region(const Eigen::Vector3d& p, double pad_m = 0) const {
+    return (p.array() >= region_min_m.array() - pad_m).all() &&
+           (p.array() <= region_max_m.array() + pad_m).all();
   }
 
   // Empty when valid, else every problem, "; "-separated. w_th is the map's W_th (> 0).

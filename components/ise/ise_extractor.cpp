@@ -112,13 +112,19 @@ Result<void, std::string> IseExtractor::on_configure() {
           "/" + team()[i].ns + "/" + config_.visit_pose_topic, {.depth = 1},
           [this, i](Sample<msg::Odometry>&& s) {
             const msg::Pose3& p = s->T_world_body;
-            const msg::Quat& q = p.orientation;
-            const double yaw =
-                std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+            const double yaw = yaw_of(p.orientation);
             if (!std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
                 !std::isfinite(p.position.z) || !std::isfinite(yaw))
               return;  // a bad pose counts no visit
             team_poses_[i] = {true, msg::to_eigen(p.position), yaw};
+          });
+      create_subscription<msg::Odometry>(
+          "/" + team()[i].ns + "/skipped_goal", {.depth = 8}, [this](Sample<msg::Odometry>&& s) {
+            const msg::Pose3& p = s->T_world_body;
+            const double yaw = yaw_of(p.orientation);
+            if (std::isfinite(p.position.x) && std::isfinite(p.position.y) &&
+                std::isfinite(p.position.z) && std::isfinite(yaw))
+              skipped_.push_back({true, msg::to_eigen(p.position), yaw});
           });
     }
   }
@@ -131,6 +137,18 @@ Result<void, std::string> IseExtractor::on_configure() {
 // A stay ends when the robot moves visit_distance_m or turns visit_angle_deg from where it
 // began. Counting per stay, not per map update, gives up after the same looks whatever the
 // update rate (docs/ise.md, "Visited and still incomplete").
+void IseExtractor::mark_looked(const IseResult& r, const RobotPose& pose, double max_angle_rad,
+                               std::vector<uint8_t>& looked) const {
+  for (const Viewpoint& v : r.viewpoints) {
+    const Eigen::Vector3d d = v.position - pose.position;
+    const double dist = v.type == RobotType::kGround ? d.head<2>().norm() : d.norm();
+    const double angle = std::abs(std::remainder(v.yaw_rad - pose.yaw_rad, 2 * M_PI));
+    if (dist > config_.visit_distance_m || angle > max_angle_rad) continue;
+    for (uint32_t id : v.seen) looked[id] = 1;
+    for (uint32_t id : v.ises) looked[id] = 1;  // the ISEs it was made for
+  }
+}
+
 void IseExtractor::count_visits(const IseResult& r, int64_t stamp_ns) {
   const double max_angle = config_.visit_angle_deg * M_PI / 180.0;
   // a tenth of the period early still counts: stamps jitter on hardware, and a look
@@ -148,14 +166,7 @@ void IseExtractor::count_visits(const IseResult& r, int64_t stamp_ns) {
         std::abs(std::remainder(pose.yaw_rad - stay.yaw_rad, 2 * M_PI)) > max_angle)
       stay = Stay{.active = true, .position = pose.position, .yaw_rad = pose.yaw_rad};
     std::fill(looked.begin(), looked.end(), 0);
-    for (const Viewpoint& v : r.viewpoints) {
-      const Eigen::Vector3d d = v.position - pose.position;
-      const double dist = v.type == RobotType::kGround ? d.head<2>().norm() : d.norm();
-      const double angle = std::abs(std::remainder(v.yaw_rad - pose.yaw_rad, 2 * M_PI));
-      if (dist > config_.visit_distance_m || angle > max_angle) continue;
-      for (uint32_t id : v.seen) looked[id] = 1;
-      for (uint32_t id : v.ises) looked[id] = 1;  // the ISEs it was made for
-    }
+    mark_looked(r, pose, max_angle, looked);
     for (uint32_t i = 0; i < r.ises.size(); ++i) {
       if (looked[i] == 0) continue;
       const VoxelIndex& voxel = r.ises[i].voxel;
@@ -167,6 +178,15 @@ void IseExtractor::count_visits(const IseResult& r, int64_t stamp_ns) {
       if (++visits_[voxel] == config_.give_up_visits) give_up.push_back(voxel);
     }
   }
+  // a skipped viewpoint: one visit for each ISE that the viewpoints there see or were made for
+  for (const RobotPose& pose : skipped_) {
+    std::fill(looked.begin(), looked.end(), 0);
+    mark_looked(r, pose, max_angle, looked);
+    for (uint32_t i = 0; i < r.ises.size(); ++i)
+      if (looked[i] != 0 && ++visits_[r.ises[i].voxel] == config_.give_up_visits)
+        give_up.push_back(r.ises[i].voxel);
+  }
+  skipped_.clear();
   if (give_up.empty()) return;
   pipeline_->give_up(give_up);
   SCANCREW_LOG_INFO(

@@ -23,7 +23,9 @@
 // an ISE for good, and its viewpoint would be visited for ever). A robot's stay at a
 // viewpoint counts a visit on arrival and one more per visit_period_s it stays, so that the
 // rule gives up after the same looks whatever the map's update rate: a station's map
-// updates once per robot's snapshot, and a distributed robot's once more per patch.
+// updates once per robot's snapshot, and a distributed robot's once more per patch. A
+// viewpoint a robot's low-level planner skipped (/<ns>/skipped_goal) counts one visit too:
+// an ISE that only unreachable viewpoints see is given up after give_up_visits skips.
 // Out-of-range values fail at configuration; the map's W_th and voxel size are checked on
 // the first snapshot.
 
@@ -71,6 +73,11 @@ class IseExtractor final : public Component {
   void on_map(const tsdf::MapUpdate& update);
   void publish(const IseResult& r, int64_t stamp_ns);
   void count_visits(const IseResult& r, int64_t stamp_ns);
+  struct RobotPose;
+  // Marks in `looked` the ISEs that the viewpoints at `pose` (within visit_distance_m and
+  // max_angle_rad of its yaw) see or were made for.
+  void mark_looked(const IseResult& r, const RobotPose& pose, double max_angle_rad,
+                   std::vector<uint8_t>& looked) const;
 
   Config config_;
   std::optional<IsePipeline> pipeline_;
@@ -86,6 +93,10 @@ class IseExtractor final : public Component {
     double yaw_rad = 0;
   };
   std::vector<RobotPose> team_poses_;
+  // viewpoints a robot's low-level planner skipped (/<ns>/skipped_goal: no path, a stall,
+  // over its detour budget) since the last update: each counts one visit, as if the robot
+  // had stood there, so that an ISE only unreachable viewpoints see is given up too
+  std::vector<RobotPose> skipped_;
   std::unordered_map<VoxelIndex, int, tsdf::BlockIndexHash> visits_;
   // per robot: where it has stood since it stopped moving, and when each ISE it looked at
   // from there last counted a visit

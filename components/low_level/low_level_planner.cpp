@@ -25,11 +25,6 @@ using Mode = msg::RobotState::Mode;
 // slower than this, a teammate off kMoving is taken as holding its place (m/s)
 constexpr double kMovingSpeedMps = 0.05;
 
-double yaw_of(const msg::Quat& q) {
-  const Eigen::Matrix3d r = msg::to_eigen(q).toRotationMatrix();
-  return std::atan2(r(1, 0), r(0, 0));
-}
-
 bool finite(const msg::Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
@@ -46,6 +41,18 @@ std::vector<Eigen::Vector3d> remaining_path(const std::vector<msg::Waypoint>& pa
   rest.reserve(path.size() - from);
   for (size_t k = from; k < path.size(); ++k) rest.push_back(msg::to_eigen(path[k].position));
   return rest;
+}
+
+// The length of the path from `start` through its waypoints (m).
+double path_length_m(const msg::Vec3& start, const std::vector<msg::Waypoint>& path) {
+  double length = 0;
+  Eigen::Vector3d at = msg::to_eigen(start);
+  for (const msg::Waypoint& w : path) {
+    const Eigen::Vector3d next = msg::to_eigen(w.position);
+    length += (next - at).norm();
+    at = next;
+  }
+  return length;
 }
 
 }  // namespace
@@ -66,6 +73,9 @@ LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
   p.optional("path_recheck_horizon_m", c.path_recheck_horizon_m, {0, 1000});
   p.optional("stall_timeout_s", c.stall.timeout_s, {0, 1e6});
   p.optional("stall_min_progress_m", c.stall.min_progress_m, {0.001, 100});
+  p.optional("max_detour_factor", c.max_detour_factor, {0, 1000});
+  if (c.max_detour_factor > 0 && c.max_detour_factor < 1)
+    p.report("max_detour_factor", "must be 0 (off) or at least 1");
   if (c.backoff_min_m > c.backoff_max_m) p.report("backoff_min_m", "must not exceed backoff_max_m");
   p.optional("ground_nominal_speed_mps", c.ground_nominal_speed_mps, {0.01, 100});
   p.optional("multirotor_nominal_speed_mps", c.multirotor_nominal_speed_mps, {0.01, 100});
@@ -106,6 +116,7 @@ Result<void, std::string> LowLevelPlanner::on_configure() {
   maneuver_pub_ = create_publisher<msg::Maneuver>("maneuver", {.pool_size = 2});
   state_pub_ = create_publisher<msg::RobotState>("robot_state", {.pool_size = 4});
   tour_pub_ = create_publisher<msg::TeamPlan>("tour", {.pool_size = 2});
+  skipped_pub_ = create_publisher<msg::Odometry>("skipped_goal", {.pool_size = 2});
   create_subscription<msg::TeamPlan>("plan", {.depth = 4},
                                      [this](Sample<msg::TeamPlan>&& s) { on_plan(*s); });
   create_subscription<tsdf::MapUpdate>("map", {.depth = 1}, [this](Sample<tsdf::MapUpdate>&& s) {
@@ -304,6 +315,16 @@ void LowLevelPlanner::plan_to_goal() {
   }
   switch (r.status) {
     case PlanStatus::kOk:
+      if (over_detour_budget(path_length_m(request.start.position, r.path),
+                             (msg::to_eigen(request.goal.position) -
+                              msg::to_eigen(request.start.position))
+                                 .norm())) {
+        ++stats_.detours;
+        if (path_sent_ || !local_path_.empty())
+          send_maneuver(msg::Maneuver::Kind::kStop, {}, 0);  // the old path leads to it
+        skip_goal("detour");
+        return;
+      }
       if (auto loan = path_pub_.loan()) {
         (*loan)->plan_id = ++local_path_id_;
         (*loan)->waypoints = r.path;
@@ -354,6 +375,7 @@ void LowLevelPlanner::plan_to_goal() {
   log_once(std::string(to_string(r.status)),
            r.message + " (that viewpoint is skipped; further such failures are counted)");
   if (r.status == PlanStatus::kNoPath && back_off_if_stuck(request.start)) return;
+  report_skipped(tour_->goal());
   ++tour_->next;
   ++tour_->skipped;
   ++stats_.goals_skipped;
@@ -606,9 +628,40 @@ void LowLevelPlanner::watch_stall() {
                 "(further such cases are counted)",
                 g.x, g.y, g.z);
   log_once("stall_skip", what);
+  skip_goal("no progress to the last goal");
+}
+
+bool LowLevelPlanner::over_detour_budget(double planned_m, double left_m) {
+  if (config_.max_detour_factor <= 0) return false;
+  if (!goal_cost_ || goal_cost_->plan_id != tour_->plan_id || goal_cost_->goal != tour_->next) {
+    goal_cost_ = GoalCost{.plan_id = tour_->plan_id,
+                          .goal = tour_->next,
+                          .travelled_at_m = stats_.path_length_m,
+                          .first_m = planned_m};
+    return false;
+  }
+  const double way_m = stats_.path_length_m - goal_cost_->travelled_at_m + left_m;
+  const double budget_m =
+      config_.max_detour_factor * goal_cost_->first_m + config_.path_recheck_horizon_m;
+  if (way_m <= budget_m) return false;
+  const msg::Vec3& g = tour_->goal().position;
+  char what[220];
+  std::snprintf(what, sizeof what,
+                "the way to (%.2f, %.2f, %.2f) grew to at least %.1f m (%.1f m travelled), "
+                "over the detour budget %.1f m (first path %.1f m): that viewpoint is skipped "
+                "(further such cases are counted)",
+                g.x, g.y, g.z, way_m, stats_.path_length_m - goal_cost_->travelled_at_m, budget_m,
+                goal_cost_->first_m);
+  log_once("detour", what);
+  return true;
+}
+
+void LowLevelPlanner::skip_goal(const char* why) {
+  report_skipped(tour_->goal());
   ++tour_->next;
   ++tour_->skipped;
   ++stats_.goals_skipped;
+  path_sent_ = false;
   if (pending_) {  // held back until this goal was done: a skip is done with it
     auto [sequence, id] = std::move(*pending_);
     take(sequence, id);
@@ -616,7 +669,22 @@ void LowLevelPlanner::watch_stall() {
   }
   if (tour_->done()) {
     send_maneuver(msg::Maneuver::Kind::kStop, {}, 0);  // the old path leads to the skipped goal
-    request_replan(ReplanReason::kInfeasible, 0, "no progress to the last goal");
+    request_replan(ReplanReason::kInfeasible, 0, why);
+  }
+}
+
+void LowLevelPlanner::report_skipped(const msg::Waypoint& goal) {
+  if (auto loan = skipped_pub_.loan()) {
+    msg::Odometry& o = **loan;
+    o = msg::Odometry{};
+    o.header.stamp_ns = clock().now_ns();
+    o.T_world_body.position = goal.position;
+    o.T_world_body.orientation = {.w = std::cos(goal.yaw_rad / 2),
+                                  .x = 0,
+                                  .y = 0,
+                                  .z = std::sin(goal.yaw_rad / 2)};
+    o.tracking_quality = 1.0;
+    (void)skipped_pub_.publish(std::move(*loan));
   }
 }
 
@@ -740,7 +808,8 @@ void LowLevelPlanner::on_deactivate() {
       "LazyPRM* %.1f ms in %zu searches%s, shortcutting %.1f ms), "
       "%llu replanning requests, %llu emergency stops, %llu back-offs, %llu traffic holds, %llu "
       "redundancies, %.1f m travelled, %llu goals nudged, %llu paths blocked by a newer map, "
-      "%llu back-offs from a place with no path out, %llu stalls",
+      "%llu back-offs from a place with no path out, %llu stalls, %llu goals over the detour "
+      "budget",
       qualified_name().c_str(), static_cast<unsigned long long>(stats_.tours),
       static_cast<unsigned long long>(stats_.goals_reached),
       static_cast<unsigned long long>(stats_.goals_skipped),
@@ -758,7 +827,8 @@ void LowLevelPlanner::on_deactivate() {
       static_cast<unsigned long long>(stats_.goals_nudged),
       static_cast<unsigned long long>(stats_.paths_blocked),
       static_cast<unsigned long long>(stats_.stuck_backoffs),
-      static_cast<unsigned long long>(stats_.stalls));
+      static_cast<unsigned long long>(stats_.stalls),
+      static_cast<unsigned long long>(stats_.detours));
 }
 
 SCANCREW_REGISTER_COMPONENT(LowLevelPlanner, "low_level_planner")

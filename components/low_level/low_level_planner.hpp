@@ -25,6 +25,8 @@
 //                                        tour plan id, goal cluster, next viewpoint index,
 //                                        viewpoints left, path length travelled
 //   out  tour          msg::TeamPlan     the tour followed (one sequence), for teammates
+//   out  skipped_goal  msg::Odometry     each viewpoint skipped (no path, stall, detour):
+//                                        the ISE extractor counts it as a visit
 //
 // A goal it cannot plan to (no path, goal in collision or unknown space) is skipped,
 // logged once per kind; after max_consecutive_failures skips it asks for a new plan. A
@@ -36,6 +38,7 @@
 // Parameters: pose_source, control_period_s, traffic_policy, redundancy_check,
 // max_consecutive_failures, replan_timeout_s, backoff_max_m, backoff_step_m, backoff_min_m,
 // goal_nudge_max_m, path_recheck_horizon_m, stall_timeout_s, stall_min_progress_m,
+// max_detour_factor,
 // `<kind>_nominal_speed_mps`,
 // `<kind>_traffic_radius_m`, the planner core's keys
 // (read_planner_config: robot_type is the launch file's kind) and the checks' keys
@@ -105,6 +108,14 @@ class LowLevelPlanner final : public Component {
     // the same goal, within backoff_max_m: the goal is skipped. stall_timeout_s 0: never.
     // Not in the thesis.
     StallConfig stall;
+  // the detour budget (not in the thesis): a goal whose way (travelled since its first
+  // path, plus the straight line left, checked at each new path to it) grows past
+  // max_detour_factor times the first path planned to it plus path_recheck_horizon_m
+  // (within the camera's range the map changes anyway) is skipped. The allocation priced the goal at that first length; a newer map that keeps
+  // blocking the way (unknown space read as free) turns it into a chase round a building
+  // (a UAV of the powerplant trio flew 529 m after one goal, 35 paths blocked, Step 10).
+  // 0: never.
+  double max_detour_factor = 2.0;
     // the traffic policy's view of every robot of the kind: nominal speed (table 5.3: 0.5
     // m/s ground; 2.6.1: 0.6 m/s multirotor) and the radius holding its body (the ground
     // robot of sim/robot_model.hpp: 0.44 x 0.40 m; a multirotor with rotors: 0.5 m)
@@ -134,6 +145,7 @@ class LowLevelPlanner final : public Component {
     uint64_t traffic_holds = 0;   // stop or step aside maneuvers
     uint64_t redundancies = 0;
     uint64_t stalls = 0;  // no progress on a path for stall_timeout_s (StallWatch)
+    uint64_t detours = 0;  // goals skipped over the detour budget
     double plan_ms_sum = 0, plan_ms_max = 0;
     PlanStats slowest_plan;    // where the slowest query's time went
     double path_length_m = 0;  // travelled
@@ -172,6 +184,16 @@ class LowLevelPlanner final : public Component {
   std::optional<msg::Waypoint> nudged_goal(const msg::Waypoint& goal) const;
   void watch_motion();  // goal reached, obstacle, traffic
   void watch_stall();   // no progress on the path: plan again, then skip the goal
+  // At a path to the current goal (`planned_m` long, the goal `left_m` away in a straight
+  // line): the first records the budget; a later one is over it when the way travelled
+  // since the first plus left_m (a lower bound of the rest: a sampling planner's path
+  // may be twice the shortest) exceeds max_detour_factor x the first + path_recheck_horizon_m.
+  bool over_detour_budget(double planned_m, double left_m);
+  // Skips the current goal after it was planned to (stall, detour): takes the plan held
+  // back for it, or asks for one when the tour is done.
+  void skip_goal(const char* why);
+  // A skipped goal, on `skipped_goal`: the ISE extractor counts it as a visit.
+  void report_skipped(const msg::Waypoint& goal);
   TrafficDecision traffic_decision(std::vector<Eigen::Vector3d> path);
   void make_way();  // an idle robot steps aside for a teammate it blocks
   void take(const msg::PathSequence& sequence, uint64_t plan_id);
@@ -224,6 +246,13 @@ class LowLevelPlanner final : public Component {
     Eigen::Vector3d at = Eigen::Vector3d::Zero();
   };
   std::optional<StallGoal> stall_goal_;
+  struct GoalCost {  // the detour budget's record of the current goal
+    uint64_t plan_id = 0;
+    size_t goal = 0;
+    double travelled_at_m = 0;  // stats_.path_length_m at its first path
+    double first_m = 0;         // that path's length
+  };
+  std::optional<GoalCost> goal_cost_;
   uint64_t local_path_id_ = 0;
   msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
   msg::Maneuver::Kind last_maneuver_ = msg::Maneuver::Kind::kResume;
@@ -238,6 +267,7 @@ class LowLevelPlanner final : public Component {
   Publisher<msg::Maneuver> maneuver_pub_;
   Publisher<msg::RobotState> state_pub_;
   Publisher<msg::TeamPlan> tour_pub_;
+  Publisher<msg::Odometry> skipped_pub_;
   std::vector<std::string> logged_;
   Stats stats_;
 };

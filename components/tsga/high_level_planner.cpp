@@ -37,11 +37,6 @@ double ms_since(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-double yaw_of(const msg::Quat& q) {
-  const Eigen::Matrix3d r = msg::to_eigen(q).toRotationMatrix();
-  return std::atan2(r(1, 0), r(0, 0));
-}
-
 // One plan's roadmap distances: every viewpoint is a target (the planner enters a cluster
 // at one of them), each starting point gets one roadmap_distances() row. Points are
 // matched exactly: the planner passes on the positions it was given.

@@ -33,11 +33,13 @@ class RoomFeeder final : public Component {
   struct Config {
     double map_period_s = 1.0;
     double blink_period_s = 0;
+    double skip_period_s = 0;
   };
   static Config read_config(ParamReader& p) {
     Config c;
     p.optional("map_period_s", c.map_period_s, {0.05, 10});
     p.optional("blink_period_s", c.blink_period_s, {0, 10});
+    p.optional("skip_period_s", c.skip_period_s, {0, 10});
     return c;
   }
   RoomFeeder(ComponentContext c, Config config) : Component(std::move(c)), config_(config) {
@@ -56,12 +58,27 @@ class RoomFeeder final : public Component {
       o.header.stamp_ns = clock().now_ns();
       const double t = 1e-9 * static_cast<double>(o.header.stamp_ns);
       const double b = config_.blink_period_s;
-      const bool there = b <= 0 || std::fmod(t + 0.1, b) < 0.5 * b;
+      const bool there =
+          config_.skip_period_s <= 0 && (b <= 0 || std::fmod(t + 0.1, b) < 0.5 * b);
       o.T_world_body.position = {2.05, there ? 0.05 : 1.5, 0.05};
       o.T_world_body.orientation = {.w = 0, .x = 0, .y = 0, .z = 1};  // yaw π
       o.tracking_quality = 1;
       (void)pose_.publish(std::move(*loan));
     });
+    if (config_.skip_period_s > 0) {
+      // the robot never gets there: its low-level planner skips the viewpoint, again and again
+      skipped_ = create_publisher<msg::Odometry>("skipped_goal", {.pool_size = 2});
+      create_timer(std::chrono::nanoseconds(std::llround(config_.skip_period_s * 1e9)), [this] {
+        auto loan = skipped_.loan();
+        if (!loan) return;
+        msg::Odometry& o = **loan;
+        o = msg::Odometry{};
+        o.header.stamp_ns = clock().now_ns();
+        o.T_world_body.position = {2.05, 0.05, 0.05};
+        o.T_world_body.orientation = {.w = 0, .x = 0, .y = 0, .z = 1};  // yaw π
+        (void)skipped_.publish(std::move(*loan));
+      });
+    }
     create_timer(std::chrono::nanoseconds(std::llround(config_.map_period_s * 1e9)), [this] {
       auto loan = map_.loan();
       if (!loan) return;
@@ -76,6 +93,7 @@ class RoomFeeder final : public Component {
   test::VoxelScene scene_;
   Publisher<tsdf::MapUpdate> map_;
   Publisher<msg::Odometry> pose_;
+  Publisher<msg::Odometry> skipped_;
 };
 SCANCREW_REGISTER_COMPONENT(RoomFeeder, "test_room_feeder")
 
@@ -104,7 +122,8 @@ struct GiveUp {
 };
 
 // The room's parameters (scenes.hpp pipeline_config) on the component.
-GiveUp run_room(double map_period_s, double visit_period_s, double blink_period_s = 0) {
+GiveUp run_room(double map_period_s, double visit_period_s, double blink_period_s = 0,
+                double skip_period_s = 0) {
   const std::string text =
       R"(clock: sim
 executor: {type: step}
@@ -114,7 +133,7 @@ robots:
 components:
   - {name: feed, type: test_room_feeder, params: {map_period_s: )" +
       std::to_string(map_period_s) + ", blink_period_s: " + std::to_string(blink_period_s) +
-      R"(}}
+      ", skip_period_s: " + std::to_string(skip_period_s) + R"(}}
   - name: ise
     type: ise_extractor
     params: {robot_types: [multirotor], multirotor_delta_pose_m: 2.0,
@@ -165,6 +184,19 @@ TEST(IseExtractor, EachArrivalAtTheViewpointCountsAVisit) {
   ASSERT_GE(g.given_up_s, 0);
   std::printf("[figures] arriving every 0.5 s: given up at %.2f s\n", g.given_up_s);
   EXPECT_NEAR(g.given_up_s, 1.75, 1e-6);
+}
+
+TEST(IseExtractor, EachSkippedViewpointCountsAVisit) {
+  // the robot stands 1.45 m aside all along; its low-level planner skips the viewpoint at
+  // 1, 2 and 3 s (no path to it): given up at the update after the third skip, in C_rem
+  // from the next. Never skipped, it stays
+  const GiveUp skipped = run_room(0.25, 1.0, 0.0, 1.0);
+  ASSERT_GE(skipped.given_up_s, 0);
+  std::printf("[figures] skipped every 1 s: given up at %.2f s\n", skipped.given_up_s);
+  EXPECT_GT(skipped.given_up_s, 3.0);
+  EXPECT_LE(skipped.given_up_s, 3.5 + 1e-6);
+  const GiveUp aside = run_room(0.25, 1.0, 0.0, 10.0);  // the first skip after the 8 s run
+  EXPECT_LT(aside.given_up_s, 0) << "a robot aside of the viewpoint, never skipping it";
 }
 
 TEST(IseExtractor, AZeroVisitPeriodCountsEveryUpdate) {

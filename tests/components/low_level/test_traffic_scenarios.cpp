@@ -810,6 +810,39 @@ TEST(TrafficScenarios, ANewerMapBlocksThePathAndTheRobotPlansRoundTheBoxBeforeAn
       static_cast<unsigned long long>(s.emergency_stops), log.paths.size(), min_gap, o.ran_s);
 }
 
+TEST(TrafficScenarios, AGoalWhoseWayGrowsPastTheDetourBudgetIsSkipped) {
+  // the goal inside an unseen closed ring, 4 m away: each newer map blocks the way in, and
+  // unknown space offers another round the ring. With the budget (factor 1, + the 1 m
+  // re-check horizon: 5 m) the goal is skipped once the way passes it; without, the robot
+  // goes on until the ring is mapped and the queries fail
+  const std::vector<RobotSetup> robots = {{1, {0, 0, 0, 180}, {{4.0, 0, 0, 0}}}};
+  const std::string scene = scene_path("ring.yaml");
+  const std::string params = "path_recheck_horizon_m: 1, max_detour_factor: ";
+  const Outcome with = run_scenario(scene, robots, 90.0, params + "1");
+  const Outcome without = run_scenario(scene, robots, 90.0, params + "0");
+  ASSERT_EQ(with.planners.size(), 1u);
+  ASSERT_EQ(without.planners.size(), 1u);
+  const LowLevelPlanner::Stats& w = with.planners[0]->stats();
+  const LowLevelPlanner::Stats& n = without.planners[0]->stats();
+  EXPECT_EQ(w.detours, 1u);
+  EXPECT_EQ(w.goals_skipped, 1u);
+  EXPECT_EQ(w.goals_reached, 0u);
+  EXPECT_EQ(n.detours, 0u);
+  EXPECT_EQ(n.goals_reached, 0u);
+  EXPECT_GE(n.paths_blocked, 2u) << "the way round the ring should be blocked again and again";
+  EXPECT_LT(w.path_length_m, n.path_length_m);
+  // (without the budget, the robot probing round the ring in unknown space touches it)
+  EXPECT_EQ(with.contacts.robot_scene, 0u);
+  std::printf(
+      "[figures] detour budget: with (factor 1): skipped after %.2f m, %llu paths, %llu blocked; "
+      "without: %.2f m, %llu paths, %llu blocked, %llu goals skipped, %llu contacts\n",
+      w.path_length_m, static_cast<unsigned long long>(w.paths),
+      static_cast<unsigned long long>(w.paths_blocked), n.path_length_m,
+      static_cast<unsigned long long>(n.paths), static_cast<unsigned long long>(n.paths_blocked),
+      static_cast<unsigned long long>(n.goals_skipped),
+      static_cast<unsigned long long>(without.contacts.robot_scene));
+}
+
 TEST(TrafficScenarios, ARobotWithNoPathOutBacksOffFartherAtEachRoundThenGivesUp) {
   // shut in a closet, its goals outside: once the walls are mapped every query fails
   // (no_path). Six goals: a round is max_consecutive_failures (3) failed queries
