@@ -108,6 +108,33 @@ class Allocation {
     return std::make_pair(std::move(order), path->utility);
   }
 
+  // Σ g·exp(−λ_tc·D − λ_ic·d(τ_lm)) over the clusters of `order`, D the way from the robot
+  // along the order to each cluster's entry (hops and the intra paths before it); a hop
+  // with no path ends the sum (what lies past it is not reached).
+  double arrival_utility(const PlanRobot& r, const std::vector<size_t>& order) const {
+    double u = 0, way_m = 0;
+    Eigen::Vector3d exit = r.position;
+    for (size_t v : order) {
+      const IntraPath& path = paths_[v];
+      const Eigen::Vector3d& entry = path.viewpoints.front();
+      const double d =
+          options_.travel_distance ? options_.travel_distance(exit, entry) : (entry - exit).norm();
+      if (!std::isfinite(d)) break;
+      way_m += d;
+      u += clusters_[v].gain *
+           std::exp(-r.lambda_tc_per_m * way_m - r.lambda_ic_per_m * path.length_m);
+      way_m += path.length_m;
+      exit = path.viewpoints.back();
+    }
+    return u;
+  }
+
+  // The insertion gain's measure of robot r's solved order (PlannerOptions::gain).
+  double value(const PlanRobot& r, const std::pair<std::vector<size_t>, double>& solved) const {
+    return options_.gain == PlannerOptions::Gain::kArc ? solved.second
+                                                       : arrival_utility(r, solved.first);
+  }
+
   RobotPlan plan_of(const PlanRobot& r, const std::vector<size_t>& order) const {
     RobotPlan p;
     p.robot_id = r.id;
@@ -265,11 +292,12 @@ Result<TeamPlan, std::string> plan_tsga(const std::vector<PlanRobot>& robots,
       extended.push_back(v);
       auto solved = alloc.solve(robots[k], extended, options.insertion_iterations);
       if (!solved) return make_unexpected(solved.error());
-      const double gain = solved->second - p[k];
+      const double value = alloc.value(robots[k], *solved);
+      const double gain = value - p[k];
       if (gain > best_gain) {
         best_gain = gain;
         best = k;
-        best_p = solved->second;
+        best_p = value;
       }
     }
     sets[best].push_back(v);

@@ -16,8 +16,10 @@
 //     path's length;
 //   f_UV = g(V)·exp(−λ_tc·d(τ_kl) − λ_ic·d(τ_lm)), λ per robot (heterogeneous teams).
 // TSGA: clusters ranked by their distance to the nearest robot that can reach them
-// (ascending); each goes to the robot k maximising maxATSP(U^k ∪ V) − p^k among those whose
-// type can reach it (ties: the lower index); clusters no robot can reach are returned
+// (ascending); each goes to the robot k maximising maxATSP(U^k ∪ V) − p^k (the thesis;
+// PlannerOptions::gain kArrival, the default, measures both by the arrival-discounted sum)
+// among those whose type can reach it (ties: the lower index); clusters no robot can reach
+// are returned
 // unassigned. Insertions are evaluated with a short search (insertion_iterations), each
 // robot's final path polished with final_iterations.
 // dist-TSGA: every robot runs the same deterministic TSGA on its own map estimate and keeps
@@ -113,6 +115,15 @@ struct PlannerOptions {
   // intra-cluster paths kept across calls (null: found again at every call); the caller
   // owns it and starts a generation per planning call
   IntraPathCache* intra_paths = nullptr;
+  // TSGA's insertion gain (not the tour order, which stays the maxATSP of eq. 2.3):
+  //   kArc (the thesis): maxATSP(U^k ∪ V) − p^k, each arc's f discounted by its own hop;
+  //   kArrival: the same order's Σ g·exp(−λ_tc·D − λ_ic·d(τ_lm)) with D the way along the
+  //   tour to the cluster's entry, before and after. A cluster deep in a busy robot's tour
+  //   is worth little to it, so it goes to the robot that gets there first: with arc gains
+  //   the robot whose tour passes near held the whole neighbourhood while its teammates
+  //   idled (Step 10: idle 10-42 % of ground teams' time, docs/tsga.md).
+  enum class Gain { kArc, kArrival };
+  Gain gain = Gain::kArrival;
 };
 
 // A viewpoint of a plan: its cluster and its index in the cluster's viewpoint list.

@@ -84,6 +84,30 @@ TEST(Tsga, NearbyClustersGoToTheNearbyRobot) {
   EXPECT_EQ(plan->robots[1].clusters, (std::vector<uint32_t>{10, 11, 12, 13}));
 }
 
+TEST(Tsga, ArrivalGainsGiveTheFarEndOfAChainToTheRobotThatGetsThereFirst) {
+  // ten clusters 2 m apart along x (2 .. 20 m); robot 1 at the chain's start, robot 2 8 m
+  // off its middle. Arc gains (the thesis): every hop of robot 1's chain is 2 m, worth more
+  // than robot 2's 8 m to its nearest cluster, so robot 1 takes all ten and robot 2 idles.
+  // Arrival gains: robot 1 reaches x = 10 after 10 m, robot 2 after 8 m: robot 2 takes the
+  // chain from there on
+  const std::vector<PlanRobot> robots = {{.id = 1, .position = {0, 0, 0}},
+                                         {.id = 2, .position = {10, 8, 0}}};
+  std::vector<PlanCluster> clusters;
+  for (uint32_t i = 1; i <= 10; ++i)
+    clusters.push_back({.id = i, .gain = 0.1, .viewpoints = {{2.0 * i, 0, 0}}});
+  PlannerOptions arc;
+  arc.gain = PlannerOptions::Gain::kArc;
+  const auto thesis = plan_tsga(robots, clusters, arc);
+  const auto arrival = plan_tsga(robots, clusters);  // the default
+  ASSERT_TRUE(thesis) << thesis.error();
+  ASSERT_TRUE(arrival) << arrival.error();
+  EXPECT_EQ(thesis->robots[0].clusters.size(), 10u);
+  EXPECT_TRUE(thesis->robots[1].clusters.empty());
+  for (const auto& [cluster, robot] : partition(*arrival))
+    EXPECT_EQ(robot, cluster < 5 ? 1u : 2u) << "cluster at x = " << 2 * cluster;
+  EXPECT_EQ(arrival->robots[0].clusters, (std::vector<uint32_t>{1, 2, 3, 4}));
+}
+
 TEST(DistTsga, IdenticalInputsGiveTheTsgaPartitionOnEveryRobot) {
   const auto clusters = random_clusters(25, 7);
   const auto robots = team(4);
