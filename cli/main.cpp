@@ -9,6 +9,7 @@
 #include "cli/eval_command.hpp"
 #include "cli/explore_bench.hpp"
 #include "cli/groundtruth_command.hpp"
+#include "cli/mission_compose.hpp"
 #include "cli/render_command.hpp"
 #include "cli/report.hpp"
 #include "cli/run_command.hpp"
@@ -31,7 +32,12 @@
 namespace {
 
 std::unique_ptr<scancrew::Launch> compose_or_report(const std::string& path) {
-  auto launch = scancrew::Launch::from_file(path);
+  const auto text = scancrew::cli::launch_file_text(path);
+  if (!text) {
+    std::fprintf(stderr, "scancrew: %s; nothing was started\n", text.error().c_str());
+    return nullptr;
+  }
+  auto launch = scancrew::Launch::from_string(*text, path);
   if (!launch) {
     std::fprintf(stderr, "scancrew: %s: %zu error(s); nothing was started\n", path.c_str(),
                  launch.error().size());

@@ -196,4 +196,52 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
          "\n";
 }
 
+Result<std::string, std::string> launch_file_text(const std::string& path) {
+  const auto text = read_text_file(path);
+  if (!text) return make_unexpected(path + ": cannot open the launch file");
+  auto root = parse_yaml(*text, path);
+  if (!root || !root->IsMap() || !(*root)["mission"].IsDefined()) return *text;
+  const YAML::Node m = (*root)["mission"];
+  if (root->size() != 1)
+    return make_unexpected(path + ": a mission file holds `mission:` and nothing else");
+  if (!m.IsMap())
+    return make_unexpected(yaml_location(path, m) +
+                           ": mission: a mapping of scene, kind, robots, architecture, "
+                           "duration_s, seed");
+  MissionSpec spec;
+  for (const auto& kv : m) {
+    const std::string key = kv.first.Scalar();
+    const YAML::Node& v = kv.second;
+    const std::string where = yaml_location(path, kv.first) + ": mission." + key;
+    try {
+      if (key == "scene")
+        spec.scene_path = v.as<std::string>();
+      else if (key == "kind")
+        spec.kind = v.as<std::string>();
+      else if (key == "robots")
+        spec.robots = v.as<size_t>();
+      else if (key == "architecture")
+        spec.arch = v.as<std::string>();
+      else if (key == "duration_s")
+        spec.duration_s = v.as<double>();
+      else if (key == "seed")
+        spec.seed = v.as<int>();
+      else
+        return make_unexpected(where +
+                               ": unknown key; allowed: scene, kind, robots, architecture, "
+                               "duration_s, seed");
+    } catch (const YAML::Exception&) {
+      return make_unexpected(where + ": not a valid value");
+    }
+  }
+  for (const char* required : {"scene", "kind", "robots", "architecture"})
+    if (!m[required].IsDefined())
+      return make_unexpected(path + ": mission." + required + " is required");
+  if (!(spec.duration_s > 0 && std::isfinite(spec.duration_s)))
+    return make_unexpected(path + ": mission.duration_s must be > 0");
+  auto composed = compose_mission(spec);
+  if (!composed) return make_unexpected(path + ": " + composed.error());
+  return composed;
+}
+
 }  // namespace scancrew::cli

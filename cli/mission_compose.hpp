@@ -34,4 +34,13 @@ struct MissionSpec {
 
 Result<std::string, std::string> compose_mission(const MissionSpec& spec);
 
+// The text of the launch file at `path`, for Launch::from_string: as written, or, for a
+// mission file (a mapping with the one key `mission`), the composed mission:
+//   mission: {scene: launch_cfg/scenes/parking_lot.yaml, kind: ground, robots: 2,
+//             architecture: distributed, duration_s: 900, seed: 1}
+// scene, kind, robots and architecture are required; duration_s (600) and seed (1) are
+// not; any other key is an error naming it. scancrew run and graph read launch files
+// through it.
+Result<std::string, std::string> launch_file_text(const std::string& path);
+
 }  // namespace scancrew::cli

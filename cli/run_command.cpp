@@ -12,6 +12,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "cli/mission_compose.hpp"
 #include "cli/report.hpp"
 #include "components/dds_bridge/dds_bridge.hpp"
 #include "components/low_level/low_level_planner.hpp"
@@ -474,11 +475,17 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
 }  // namespace
 
 int run_launch(const RunOptions& o) {
-  auto composed = Launch::from_file(o.launch_path, {.overrides = o.sets,
-                                                    .out_dir = o.out_dir,
-                                                    .robot_count = o.robot_count,
-                                                    .process = o.process,
-                                                    .robot_id = o.robot_id});
+  const auto text = launch_file_text(o.launch_path);
+  if (!text) {
+    std::fprintf(stderr, "scancrew: %s; nothing was started\n", text.error().c_str());
+    return 2;
+  }
+  auto composed = Launch::from_string(*text, o.launch_path,
+                                      {.overrides = o.sets,
+                                       .out_dir = o.out_dir,
+                                       .robot_count = o.robot_count,
+                                       .process = o.process,
+                                       .robot_id = o.robot_id});
   if (!composed) {
     std::fprintf(stderr, "scancrew: %s: %zu error(s); nothing was started\n", o.launch_path.c_str(),
                  composed.error().size());

@@ -72,7 +72,6 @@ PathTracker::Config PathTracker::read_config(ParamReader& p) {
   p.optional("lost_turn_rate_radps", c.lost_turn_rate_radps, {0, 5});
   p.optional("lost_turn_after_s", c.lost_turn_after_s, {0, 3600});
   p.optional("initial_turn_deg", c.initial_turn_deg, {0, 1080});
-  p.optional("initial_turn_rate_radps", c.initial_turn_rate_radps, {0.01, 5});
   p.optional("predict_pose", c.predict_pose);
   p.optional("new_plan_resumes", c.new_plan_resumes);
   return c;
@@ -296,7 +295,7 @@ void PathTracker::on_tick() {
     const Eigen::Isometry3d T_world_body = predicted_pose(now);
     if (turning_first_ && order_ == Order::kNone) {
       mode = Mode::kMoving;
-      cmd.yaw_rate_radps = config_.initial_turn_rate_radps;
+      cmd.yaw_rate_radps = config_.ground.max_yaw_rate_radps;  // as fast as it turns
     } else if (order_ == Order::kStepAside) {
       const auto [dp, dyaw] = errors_to(T_world_body, aside_);
       if (dp <= config_.position_tolerance_m && dyaw <= config_.yaw_tolerance_rad) {

@@ -26,7 +26,7 @@
 // it again at rest within lost_turn_after_s, turns on the spot at that rate until it
 // resumes).
 // First scan (initial_turn_deg > 0, ground robots): from its first usable pose the robot
-// turns on the spot at initial_turn_rate_radps until it has turned that far, before it
+// turns on the spot at its ground_max_yaw_rate_radps until it has turned that far, before it
 // follows any path (a path that comes meanwhile waits); a stop order pauses the turn, a
 // step-aside ends it. Without it, a start that sees only a few ISEs with feasible viewpoints
 // could finish them and leave C_ins empty: the parking lot's single robot, seed 3, met the
@@ -78,7 +78,6 @@ class PathTracker final : public Component {
     double lost_turn_rate_radps = 0;   // ground, tracking lost: turn on the spot (0: hold)
     double lost_turn_after_s = 2.0;    // ... after holding still this long
     double initial_turn_deg = 0;       // ground: turn this far on the spot first (0: no)
-    double initial_turn_rate_radps = 0.5;
     bool predict_pose = true;
     bool new_plan_resumes = true;
   };

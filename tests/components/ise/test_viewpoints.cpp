@@ -217,9 +217,14 @@ TEST(ViewpointFeasible, GroundRobotNeedsAKnownFloorAndAFreeBodyCylinder) {
   EXPECT_FALSE(feasible(*scene.snapshot(), ground(), kGroundCam));
   scene.set({0, -1, 1}, VoxelState::kEmpty);
   ASSERT_TRUE(feasible(*scene.snapshot(), ground(), kGroundCam));
-  // the floor under it unknown, then known but empty (a hole): no floor to stand on
+  // the floor voxel unknown under known empty air: a floor seen at a grazing angle
   scene.set({0, 0, -1}, VoxelState::kUnknown);
+  EXPECT_TRUE(feasible(*scene.snapshot(), ground(), kGroundCam));
+  // ... but not under unknown air: nothing seen there
+  scene.set({0, 0, 0}, VoxelState::kUnknown);
   EXPECT_FALSE(feasible(*scene.snapshot(), ground(), kGroundCam));
+  scene.set({0, 0, 0}, VoxelState::kEmpty);
+  // known but empty (a hole): no floor to stand on
   scene.set({0, 0, -1}, VoxelState::kEmpty);
   EXPECT_FALSE(feasible(*scene.snapshot(), ground(), kGroundCam));
 }

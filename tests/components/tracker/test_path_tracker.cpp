@@ -523,7 +523,7 @@ TEST(PathTracker, AGroundRobotTurnsOnTheSpotFirstWhenAsked) {
   const std::vector<Waypoint4> path = {{-3, -2, 0, 0}, {-1, -2, 0, 0}};
   const std::string player = "{waypoints: " + list(path) + "}";
   TrackerRun r = run(launch_text("ground", {-3, -2, 0, 0}, 25.0, player,
-                                 "{initial_turn_deg: 360, initial_turn_rate_radps: 0.5}", "{}"));
+                                 "{initial_turn_deg: 360, ground_max_yaw_rate_radps: 0.5}", "{}"));
   ASSERT_NE(r.tracker, nullptr);
   ASSERT_FALSE(r.log->poses.empty());
   EXPECT_EQ(r.tracker->plans_done(), 1u);
