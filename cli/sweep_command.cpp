@@ -11,6 +11,7 @@
 #include <map>
 
 #include "cli/child_process.hpp"
+#include "cli/mission_compose.hpp"
 #include "cli/sweep_table.hpp"
 #include "executors/params_impl.hpp"
 
@@ -94,7 +95,7 @@ struct TeamSize {
   size_t listed = 0, runs = 0;
 };
 TeamSize team_size(const std::string& launch_path) {
-  const auto text = read_text_file(launch_path);
+  const auto text = launch_file_text(launch_path);  // a mission file: its composed graph
   if (!text) return {};
   const auto root = parse_yaml(*text, launch_path);
   if (!root || !root->IsMap()) return {};
