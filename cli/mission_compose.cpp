@@ -95,7 +95,6 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   return g;
 }
 
-
 // Merges the profile's section `key` (a mapping) into params; the graph's own keys win.
 void merge_section(const YAML::Node& profile, const std::string& key, YAML::Node& params) {
   const YAML::Node section = profile[key];

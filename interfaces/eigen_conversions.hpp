@@ -3,9 +3,8 @@
 // Message geometry <-> Eigen, for the components that compute with poses (perception,
 // mapping, planning). Messages stay plain structs; algorithms use Eigen.
 
-#include <cmath>
-
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "interfaces/geometry.hpp"
 

@@ -72,9 +72,9 @@ struct IseConfig {
   // The region to reconstruct (world frame, m): only ISEs whose voxel centre lies in the
   // box grown by `pad_m` count (viewpoints may lie outside); the pipeline pads by one voxel,
   // so that a surface on the box's faces (a wall at a scene's bounds, the floor at z = 0)
-  // stays in. Default: everywhere; a composed mission sets the scene's bounds. The thesis scales the
-  // Powerplant into a 65 x 42 x 15 m box and scores within it; SGBM's false matches put
-  // surface beyond a room's walls and under its floor (launch_cfg/missions/arena_stereo.yaml).
+  // stays in. Default: everywhere; a composed mission sets the scene's bounds. The thesis scales
+  // the Powerplant into a 65 x 42 x 15 m box and scores within it; SGBM's false matches put surface
+  // beyond a room's walls and under its floor (launch_cfg/missions/arena_stereo.yaml).
   Eigen::Vector3d region_min_m =
       Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
   Eigen::Vector3d region_max_m = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());

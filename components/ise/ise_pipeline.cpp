@@ -106,7 +106,8 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
   }
   std::vector<std::vector<Ise>> fresh = extract_blocks(snap, dirty);
   for (size_t i = 0; i < dirty.size(); ++i) {
-    std::erase_if(fresh[i], [&](const Ise& ise) { return !config_.in_region(ise.center, voxel_m_); });
+    std::erase_if(fresh[i],
+                  [&](const Ise& ise) { return !config_.in_region(ise.center, voxel_m_); });
     if (fresh[i].empty())
       ises_.erase(dirty[i]);
     else

@@ -319,10 +319,10 @@ void LowLevelPlanner::plan_to_goal() {
   }
   switch (r.status) {
     case PlanStatus::kOk:
-      if (over_detour_budget(path_length_m(request.start.position, r.path),
-                             (msg::to_eigen(request.goal.position) -
-                              msg::to_eigen(request.start.position))
-                                 .norm())) {
+      if (over_detour_budget(
+              path_length_m(request.start.position, r.path),
+              (msg::to_eigen(request.goal.position) - msg::to_eigen(request.start.position))
+                  .norm())) {
         ++stats_.detours;
         if (path_sent_ || !local_path_.empty())
           send_maneuver(msg::Maneuver::Kind::kStop, {}, 0);  // the old path leads to it
@@ -683,10 +683,8 @@ void LowLevelPlanner::report_skipped(const msg::Waypoint& goal) {
     o = msg::Odometry{};
     o.header.stamp_ns = clock().now_ns();
     o.T_world_body.position = goal.position;
-    o.T_world_body.orientation = {.w = std::cos(goal.yaw_rad / 2),
-                                  .x = 0,
-                                  .y = 0,
-                                  .z = std::sin(goal.yaw_rad / 2)};
+    o.T_world_body.orientation = {
+        .w = std::cos(goal.yaw_rad / 2), .x = 0, .y = 0, .z = std::sin(goal.yaw_rad / 2)};
     o.tracking_quality = 1.0;
     (void)skipped_pub_.publish(std::move(*loan));
   }

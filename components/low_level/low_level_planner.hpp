@@ -108,14 +108,14 @@ class LowLevelPlanner final : public Component {
     // the same goal, within backoff_max_m: the goal is skipped. stall_timeout_s 0: never.
     // Not in the thesis.
     StallConfig stall;
-  // the detour budget (not in the thesis): a goal whose way (travelled since its first
-  // path, plus the straight line left, checked at each new path to it) grows past
-  // max_detour_factor times the first path planned to it plus path_recheck_horizon_m
-  // (within the camera's range the map changes anyway) is skipped. The allocation priced the goal at that first length; a newer map that keeps
-  // blocking the way (unknown space read as free) turns it into a chase round a building
-  // (a UAV of the powerplant trio flew 529 m after one goal, 35 paths blocked, Step 10).
-  // 0: never.
-  double max_detour_factor = 2.0;
+    // the detour budget (not in the thesis): a goal whose way (travelled since its first
+    // path, plus the straight line left, checked at each new path to it) grows past
+    // max_detour_factor times the first path planned to it plus path_recheck_horizon_m
+    // (within the camera's range the map changes anyway) is skipped. The allocation priced the goal
+    // at that first length; a newer map that keeps blocking the way (unknown space read as free)
+    // turns it into a chase round a building (a UAV of the powerplant trio flew 529 m after one
+    // goal, 35 paths blocked, Step 10). 0: never.
+    double max_detour_factor = 2.0;
     // the traffic policy's view of every robot of the kind: nominal speed (table 5.3: 0.5
     // m/s ground; 2.6.1: 0.6 m/s multirotor) and the radius holding its body (the ground
     // robot of sim/robot_model.hpp: 0.44 x 0.40 m; a multirotor with rotors: 0.5 m)
@@ -144,7 +144,7 @@ class LowLevelPlanner final : public Component {
     uint64_t paths_blocked = 0;   // local paths a newer map blocked ahead: planned again
     uint64_t traffic_holds = 0;   // stop or step aside maneuvers
     uint64_t redundancies = 0;
-    uint64_t stalls = 0;  // no progress on a path for stall_timeout_s (StallWatch)
+    uint64_t stalls = 0;   // no progress on a path for stall_timeout_s (StallWatch)
     uint64_t detours = 0;  // goals skipped over the detour budget
     double plan_ms_sum = 0, plan_ms_max = 0;
     PlanStats slowest_plan;    // where the slowest query's time went

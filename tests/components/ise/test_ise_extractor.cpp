@@ -58,8 +58,7 @@ class RoomFeeder final : public Component {
       o.header.stamp_ns = clock().now_ns();
       const double t = 1e-9 * static_cast<double>(o.header.stamp_ns);
       const double b = config_.blink_period_s;
-      const bool there =
-          config_.skip_period_s <= 0 && (b <= 0 || std::fmod(t + 0.1, b) < 0.5 * b);
+      const bool there = config_.skip_period_s <= 0 && (b <= 0 || std::fmod(t + 0.1, b) < 0.5 * b);
       o.T_world_body.position = {2.05, there ? 0.05 : 1.5, 0.05};
       o.T_world_body.orientation = {.w = 0, .x = 0, .y = 0, .z = 1};  // yaw π
       o.tracking_quality = 1;
