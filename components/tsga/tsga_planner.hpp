@@ -117,7 +117,7 @@ struct PlannerOptions {
   IntraPathCache* intra_paths = nullptr;
   // TSGA's insertion gain (not the tour order, which stays the maxATSP of eq. 2.3):
   //   kArc (the thesis): maxATSP(U^k ∪ V) − p^k, each arc's f discounted by its own hop;
-  //   kArrival: the same order's Σ g·exp(−λ_tc·D − λ_ic·d(τ_lm)) with D the way along the
+  //   kArrival: the same order's Σ g·exp(−λ_tc·D − λ_ic·d(τ_lm)) with D the hops along the
   //   tour to the cluster's entry, before and after. A cluster deep in a busy robot's tour
   //   is worth little to it, so it goes to the robot that gets there first: with arc gains
   //   the robot whose tour passes near held the whole neighbourhood while its teammates
