@@ -61,8 +61,8 @@ HighLevelPlanner::Config HighLevelPlanner::read_config(ParamReader& p) {
   p.optional("insertion_iterations", c.options.insertion_iterations, {0, 100000});
   p.optional("final_iterations", c.options.final_iterations, {0, 1000000});
   p.optional("seed", c.options.seed);
-  std::string gain = "arrival";
-  p.choice("allocation_gain", gain, {"arrival", "arc"});
+  std::string gain = "arc";
+  p.choice("allocation_gain", gain, {"arc", "arrival"});
   c.options.gain = gain == "arc" ? PlannerOptions::Gain::kArc : PlannerOptions::Gain::kArrival;
   p.optional("min_replan_period_s", c.min_replan_period_s, {0, 1e6});
   p.optional("keep_intra_paths", c.keep_intra_paths);

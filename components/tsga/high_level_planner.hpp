@@ -57,8 +57,8 @@
 //
 // Parameters: algorithm, inter_cluster_distance (euclidean | roadmap), pose_source,
 // `<type>_lambda_tc_per_m` and `<type>_lambda_ic_per_m` for ground and multirotor,
-// insertion_iterations, final_iterations, seed, allocation_gain (arrival | arc: the thesis;
-// PlannerOptions::gain), min_replan_period_s, keep_intra_paths, and
+// insertion_iterations, final_iterations, seed, allocation_gain (arc: the thesis, default |
+// arrival; PlannerOptions::gain), min_replan_period_s, keep_intra_paths, and
 // with roadmap the
 // low-level planner's keys (docs/low_level_planner.md). Bad clusters (NaN gain, duplicate
 // ids) or poses: the update is skipped with an error logged once per kind; the last plan

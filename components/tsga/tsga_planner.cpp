@@ -108,11 +108,9 @@ class Allocation {
     return std::make_pair(std::move(order), path->utility);
   }
 
-  // Σ g·exp(−λ_tc·D − λ_ic·d(τ_lm)) over the clusters of `order`, D the hops from the robot
-  // along the order to each cluster's entry (the intra paths are λ_ic's, as in eq. 2.3: with
-  // them in D too, a robot whose first cluster was a powerplant's 100 m sweep valued the
-  // rest of its tour at nothing, and its neighbourhood went to teammates across the site);
-  // a hop with no path ends the sum (what lies past it is not reached).
+  // Σ g·exp(−λ_tc·D − λ_ic·d(τ_lm)) over the clusters of `order`, D the way from the robot
+  // along the order to each cluster's entry (the hops and the intra paths before it); a hop
+  // with no path ends the sum (what lies past it is not reached).
   double arrival_utility(const PlanRobot& r, const std::vector<size_t>& order) const {
     double u = 0, way_m = 0;
     Eigen::Vector3d exit = r.position;
@@ -125,6 +123,7 @@ class Allocation {
       way_m += d;
       u += clusters_[v].gain *
            std::exp(-r.lambda_tc_per_m * way_m - r.lambda_ic_per_m * path.length_m);
+      way_m += path.length_m;
       exit = path.viewpoints.back();
     }
     return u;

@@ -95,10 +95,10 @@ TEST(Tsga, ArrivalGainsGiveTheFarEndOfAChainToTheRobotThatGetsThereFirst) {
   std::vector<PlanCluster> clusters;
   for (uint32_t i = 1; i <= 10; ++i)
     clusters.push_back({.id = i, .gain = 0.1, .viewpoints = {{2.0 * i, 0, 0}}});
-  PlannerOptions arc;
-  arc.gain = PlannerOptions::Gain::kArc;
-  const auto thesis = plan_tsga(robots, clusters, arc);
-  const auto arrival = plan_tsga(robots, clusters);  // the default
+  PlannerOptions by_arrival;
+  by_arrival.gain = PlannerOptions::Gain::kArrival;
+  const auto thesis = plan_tsga(robots, clusters);  // the default: arc gains
+  const auto arrival = plan_tsga(robots, clusters, by_arrival);
   ASSERT_TRUE(thesis) << thesis.error();
   ASSERT_TRUE(arrival) << arrival.error();
   EXPECT_EQ(thesis->robots[0].clusters.size(), 10u);
