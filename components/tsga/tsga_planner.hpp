@@ -118,10 +118,10 @@ struct PlannerOptions {
   // TSGA's insertion gain (not the tour order, which stays the maxATSP of eq. 2.3):
   //   kArc (the thesis): maxATSP(U^k ∪ V) − p^k, each arc's f discounted by its own hop;
   //   kArrival: the same order's Σ g·exp(−λ_tc·D − λ_ic·d(τ_lm)) with D the way along the
-  //   tour to the cluster's entry (hops and intra paths), before and after. A cluster deep in a busy robot's tour
-  //   is worth little to it, so it goes to the robot that gets there first: with arc gains
-  //   the robot whose tour passes near held the whole neighbourhood while its teammates
-  //   idled (Step 10: idle 10-42 % of ground teams' time). The ground profile's choice; it
+  //   tour to the cluster's entry (hops and intra paths), before and after. A cluster deep
+  //   in a busy robot's tour is worth little to it, so it goes to the robot that gets there
+  //   first: with arc gains the robot whose tour passes near held the whole neighbourhood
+  //   while its teammates idled (Step 10: idle 10-42 % of ground teams' time). The ground profile's choice; it
   //   made the powerplant's UAV trio worse (docs/tsga.md), so the default is the thesis's.
   enum class Gain { kArc, kArrival };
   Gain gain = Gain::kArc;
