@@ -121,8 +121,9 @@ struct PlannerOptions {
   //   tour to the cluster's entry (hops and intra paths), before and after. A cluster deep
   //   in a busy robot's tour is worth little to it, so it goes to the robot that gets there
   //   first: with arc gains the robot whose tour passes near held the whole neighbourhood
-  //   while its teammates idled (Step 10: idle 10-42 % of ground teams' time). The ground profile's choice; it
-  //   made the powerplant's UAV trio worse (docs/tsga.md), so the default is the thesis's.
+  //   while its teammates idled (Step 10: idle 10-42 % of ground teams' time). The ground profile's
+  //   choice; it made the powerplant's UAV trio worse (docs/tsga.md), so the default is the
+  //   thesis's.
   enum class Gain { kArc, kArrival };
   Gain gain = Gain::kArc;
 };
