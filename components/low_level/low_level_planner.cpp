@@ -146,8 +146,16 @@ Result<void, std::string> LowLevelPlanner::on_configure() {
     const std::string ns = "/" + m.ns + "/";
     create_subscription<msg::RobotState>(ns + "robot_state", {.depth = 1},
                                          [this, i](Sample<msg::RobotState>&& s) {
-                                           teammates_[i].state = *s;
-                                           teammates_[i].seen = true;
+                                           Teammate& t = teammates_[i];
+                                           // the bridge's kLost (a dead process) carries no
+                                           // pose: the body stays where it was last seen
+                                           if (s->mode == Mode::kLost && t.seen) {
+                                             t.state.mode = Mode::kLost;
+                                             t.state.velocity_mps = {};
+                                             return;
+                                           }
+                                           t.state = *s;
+                                           t.seen = true;
                                          });
     create_subscription<msg::LocalPath>(
         ns + "local_path", {.depth = 1},
@@ -274,7 +282,7 @@ bool LowLevelPlanner::follow_checks() {
   if (config_.redundancy_check) {
     std::vector<TourProgress> others;
     for (const Teammate& t : teammates_)
-      if (t.seen && t.tour && t.state.plan_id == t.tour_plan_id)
+      if (t.seen && t.state.mode != Mode::kLost && t.tour && t.state.plan_id == t.tour_plan_id)
         others.push_back(
             tour_progress(t.id, t.state.T_world_body.position, *t.tour, t.state.path_index));
     const RedundancyResult r = redundancy_check(
@@ -591,9 +599,20 @@ void LowLevelPlanner::watch_motion() {
       path_sent_ = false;
       break;
   }
-  if (d.request_replan)
+  if (d.request_replan) {
+    // held by a lost teammate, which will never move: the goal behind it is out of reach
+    const auto lost = std::find_if(teammates_.begin(), teammates_.end(), [&](const Teammate& t) {
+      return t.id == d.because_of_robot && t.state.mode == Mode::kLost;
+    });
+    if (lost != teammates_.end()) {
+      send_maneuver(msg::Maneuver::Kind::kResume, {}, 0);
+      traffic_->reset();
+      skip_goal("held by a lost teammate");
+      return;
+    }
     request_replan(ReplanReason::kTrafficStuck, d.because_of_robot,
                    "held " + std::to_string(static_cast<int>(d.held_s)) + " s");
+  }
 }
 
 void LowLevelPlanner::watch_stall() {
@@ -695,7 +714,9 @@ void LowLevelPlanner::report_skipped(const msg::Waypoint& goal) {
 TrafficDecision LowLevelPlanner::traffic_decision(std::vector<Eigen::Vector3d> path) {
   std::vector<TrafficAgent> others;
   for (const Teammate& t : teammates_) {
-    if (!t.seen || t.state.mode == Mode::kLost) continue;
+    // a lost teammate is still there (a dead process leaves its robot where it stood, and
+    // the depth mask blanked it out of the maps until then): it holds its place
+    if (!t.seen) continue;
     TrafficAgent a;
     a.id = t.id;
     a.position = msg::to_eigen(t.state.T_world_body.position);
