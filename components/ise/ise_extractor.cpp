@@ -197,7 +197,10 @@ void IseExtractor::count_visits(const IseResult& r, int64_t stamp_ns) {
 }
 
 void IseExtractor::on_map(const tsdf::MapUpdate& update) {
-  if (failed_ || update.map == nullptr) return;
+  if (failed_ || update.map == nullptr) {
+    skipped_.clear();  // counted at an update only: none will come, or none to count on
+    return;
+  }
   const tsdf::MapSnapshot& snap = *update.map;
   if (!pipeline_) {
     auto created = IsePipeline::create(config_.ise, snap.config().w_th, snap.voxel_m());

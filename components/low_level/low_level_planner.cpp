@@ -149,7 +149,9 @@ Result<void, std::string> LowLevelPlanner::on_configure() {
                                            Teammate& t = teammates_[i];
                                            // the bridge's kLost (a dead process) carries no
                                            // pose: the body stays where it was last seen
-                                           if (s->mode == Mode::kLost && t.seen) {
+                                           // (a teammate never seen stays unseen: the
+                                           // message's pose is no place)
+                                           if (s->mode == Mode::kLost) {
                                              t.state.mode = Mode::kLost;
                                              t.state.velocity_mps = {};
                                              return;
@@ -332,8 +334,7 @@ void LowLevelPlanner::plan_to_goal() {
               (msg::to_eigen(request.goal.position) - msg::to_eigen(request.start.position))
                   .norm())) {
         ++stats_.detours;
-        if (path_sent_ || !local_path_.empty())
-          send_maneuver(msg::Maneuver::Kind::kStop, {}, 0);  // the old path leads to it
+        send_maneuver(msg::Maneuver::Kind::kStop, {}, 0);  // an old path may lead to it
         skip_goal("detour");
         return;
       }
@@ -461,7 +462,7 @@ std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& s
   // the map holds no teammate (their depth is masked): keep clear of them here
   const auto clear_of_teammates = [&](const msg::Waypoint& w) {
     for (const Teammate& t : teammates_) {
-      if (!t.seen || t.state.mode == Mode::kLost) continue;
+      if (!t.seen) continue;  // a lost one stands where it was last seen
       const double gap = traffic_radius_m_ + t.traffic_radius_m;
       if ((msg::to_eigen(w.position) - msg::to_eigen(t.state.T_world_body.position)).norm() < gap)
         return false;
@@ -605,9 +606,8 @@ void LowLevelPlanner::watch_motion() {
       return t.id == d.because_of_robot && t.state.mode == Mode::kLost;
     });
     if (lost != teammates_.end()) {
-      send_maneuver(msg::Maneuver::Kind::kResume, {}, 0);
       traffic_->reset();
-      skip_goal("held by a lost teammate");
+      skip_goal("held by a lost teammate");  // stops the path that leads there
       return;
     }
     request_replan(ReplanReason::kTrafficStuck, d.because_of_robot,
@@ -684,6 +684,8 @@ void LowLevelPlanner::skip_goal(const char* why) {
   ++tour_->next;
   ++tour_->skipped;
   ++stats_.goals_skipped;
+  // a path still out leads to the skipped goal: stop it (the next path resumes)
+  if (path_sent_) send_maneuver(msg::Maneuver::Kind::kStop, {}, 0);
   path_sent_ = false;
   if (pending_) {  // held back until this goal was done: a skip is done with it
     auto [sequence, id] = std::move(*pending_);

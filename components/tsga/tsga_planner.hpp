@@ -17,9 +17,8 @@
 //   f_UV = g(V)·exp(−λ_tc·d(τ_kl) − λ_ic·d(τ_lm)), λ per robot (heterogeneous teams).
 // TSGA: clusters ranked by their distance to the nearest robot that can reach them
 // (ascending); each goes to the robot k maximising maxATSP(U^k ∪ V) − p^k (the thesis;
-// PlannerOptions::gain kArrival, the default, measures both by the arrival-discounted sum)
-// among those whose type can reach it (ties: the lower index); clusters no robot can reach
-// are returned
+// PlannerOptions::gain kArrival measures both by the arrival-discounted sum) among those
+// whose type can reach it (ties: the lower index); clusters no robot can reach are returned
 // unassigned. Insertions are evaluated with a short search (insertion_iterations), each
 // robot's final path polished with final_iterations.
 // dist-TSGA: every robot runs the same deterministic TSGA on its own map estimate and keeps
