@@ -330,10 +330,14 @@ void HighLevelPlanner::plan(int64_t stamp_ns, std::optional<size_t> idle) {
   stats_.intra_paths = intra_paths_.stats();
   stats_.max_ms = std::max(stats_.max_ms, ms);
   stats_.mean_ms = ms_sum_ / static_cast<double>(stats_.plans);
-  publish(last_, stamp_ns);
+  // after a reallocation to an idle robot only its sequence is new: the others' were
+  // planned on older clusters, whose viewpoints their references index (a cluster of that
+  // id may now hold fewer: an out-of-range crash in an outdoor trio), and a plan without a
+  // robot's sequence leaves its tour as it is
+  publish(last_, stamp_ns, idle);
 }
 
-void HighLevelPlanner::publish(const TeamPlan& plan, int64_t stamp_ns) {
+void HighLevelPlanner::publish(const TeamPlan& plan, int64_t stamp_ns, std::optional<size_t> only) {
   auto loan = plan_pub_.loan();
   if (!loan) return;
   msg::TeamPlan& m = **loan;
@@ -346,8 +350,10 @@ void HighLevelPlanner::publish(const TeamPlan& plan, int64_t stamp_ns) {
   std::map<uint32_t, const msg::ViewpointCluster*> by_id;
   for (const msg::ViewpointCluster& c : clusters_->clusters) by_id[c.id] = &c;
   const bool ises_match = ises_ && ises_->map_version == clusters_->map_version;
-  for (const RobotPlan& r : plan.robots) {
+  for (size_t k = 0; k < plan.robots.size(); ++k) {
+    const RobotPlan& r = plan.robots[k];
     if (per_robot_ && r.robot_id != robot_id()) continue;
+    if (only && k != *only) continue;
     msg::PathSequence s;
     s.robot_id = r.robot_id;
     s.cluster_ids = r.clusters;

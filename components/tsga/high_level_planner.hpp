@@ -155,7 +155,8 @@ class HighLevelPlanner final : public Component {
   // The configured options, with the memoised roadmap distance when it is chosen and a map
   // has come.
   PlannerOptions plan_options();
-  void publish(const TeamPlan& plan, int64_t stamp_ns);
+  // The plan's sequences (only: that robot's alone).
+  void publish(const TeamPlan& plan, int64_t stamp_ns, std::optional<size_t> only = std::nullopt);
   void fail_once(const std::string& kind, const std::string& message);
   void warn_once(const std::string& kind, const std::string& message);
 
