@@ -151,6 +151,7 @@ class TrafficPolicy {
                         const TrafficAgent& priority, const FreeSpaceQuery& free,
                         Eigen::Vector3d& aside);
   bool in_view(const TrafficAgent& self, const TrafficAgent& other, double range_m) const;
+  bool on_way_ahead_of(const TrafficAgent& k, const TrafficAgent& self);
   TrafficDecision hold(TrafficAction action, const Candidate& c, double now_s);
 
   TrafficConfig config_;

@@ -195,6 +195,37 @@ TEST(TrafficPolicy, ABodyInTheCorridorStopsEvenThePriorityRobot) {
   EXPECT_EQ(pa2.update(a, std::vector{behind}, anywhere(), 0.0).action, TrafficAction::kProceed);
 }
 
+TEST(TrafficPolicy, AFollowerOnThePriorityRobotsWayStepsAsideInsteadOfStopping) {
+  // two robots side by side, 0.85 m apart, both leaving west (a parking-lot run: r3 and r4
+  // held each other 335 s). r4 is a little ahead along r3's heading: following, priority r4;
+  // r4's path dips past r3's body, so r4's safety net stops it for r3
+  const double deg = kPi / 180;
+  const TrafficAgent r3 = agent(3, {0, 0, 0}, 165 * deg, {{-0.9, 0.24, 0}, {-3.3, 0.7, 0}}, 0.0);
+  const TrafficAgent r4 =
+      agent(4, {0.1, 0.85, 0}, -108 * deg,
+            {{-0.05, 0.37, 0}, {-0.4, 0.22, 0}, {-0.9, 0.36, 0}, {-2.3, 0.9, 0}}, 0.0);
+  const PairConflict pc = pair_conflict(r3, r4, kGround);
+  ASSERT_TRUE(pc.found);
+  EXPECT_EQ(pc.encounter, Encounter::kFollowing);
+  EXPECT_EQ(pc.priority_id, 4u);
+
+  TrafficPolicy p4(kGround);
+  const TrafficDecision d4 = p4.update(r4, std::vector<TrafficAgent>{r3}, anywhere(), 0.0);
+  EXPECT_EQ(d4.action, TrafficAction::kStopAndWait);
+  EXPECT_EQ(d4.encounter, Encounter::kIntrusion);
+
+  // r3 does not only stop (both would wait): it steps aside, off r4's way
+  TrafficPolicy p3(kGround);
+  const TrafficDecision d3 = p3.update(r3, std::vector<TrafficAgent>{r4}, anywhere(), 0.0);
+  ASSERT_EQ(d3.action, TrafficAction::kStepAside);
+  EXPECT_EQ(d3.because_of_robot, 4u);
+
+  // r3 at its aside point, at rest (no path): r4 goes on
+  const TrafficAgent r3_aside = agent(3, d3.aside_point, 165 * deg, {}, 0.0);
+  EXPECT_EQ(p4.update(r4, std::vector<TrafficAgent>{r3_aside}, anywhere(), 1.0).action,
+            TrafficAction::kResume);
+}
+
 TEST(TrafficPolicy, ResumesOnceTheTeammateHasCrossedAndLeftTheView) {
   TrafficAgent a = agent(1, {-1.2, 0, 0}, 0, {{5, 0, 0}});
   const TrafficAgent b = agent(2, {0, -1.2, 0}, kPi / 2, {{0, 5, 0}}, 0.0);
