@@ -149,7 +149,7 @@ struct MotionPlanner::Impl {
       });
     });
     si = std::make_shared<ob::SpaceInformation>(space);
-    si->setStateValidityChecker([this](const ob::State* s) { return !map.collides(pose_of(s)); });
+    si->setStateValidityChecker([this](const ob::State* s) { return valid(pose_of(s)); });
     si->setup();
     set_check_resolution();
     objective = std::make_shared<ob::PathLengthOptimizationObjective>(si);
@@ -273,6 +273,66 @@ struct MotionPlanner::Impl {
   }
   bool map_bounds_set = false;
 
+  // --- known space near the robot (planner_config.hpp, frame_half_extents_m) ---
+  struct KnownSpaceGuard {
+    bool active = false;
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // the robot, where the query starts
+    Eigen::AlignedBox3d exempt;  // the frame's box there: the voxels the robot is in
+  };
+  KnownSpaceGuard guard;
+
+  bool guarded() const {
+    return !config.unknown_is_occupied && config.known_space_horizon_m > 0 &&
+           (config.frame_half_extents_m.array() > 0).all();
+  }
+  // The frame's box at a pose, for any yaw (the horizontal half extent is the frame's
+  // half diagonal: the box holds the frame turned either way, and a turn on the spot
+  // needs no check).
+  Eigen::AlignedBox3d frame_box(const Eigen::Vector3d& c) const {
+    const Eigen::Vector3d& h = config.frame_half_extents_m;
+    const double r = h.head<2>().norm();
+    const Eigen::Vector3d e(r, r, h.z());
+    return {c - e, c + e};
+  }
+  KnownSpaceGuard guard_at(const Eigen::Vector3d& robot) const {
+    if (!guarded()) return {};
+    return {true, robot, frame_box(robot)};
+  }
+  // Whether the frame at c overlaps unknown space the guard forbids: space no higher than
+  // the frame's top where the robot is. Higher, unknown space stays free: the level camera
+  // never sees the air above the robot, so a climb would be refused everywhere the robot
+  // has not looked from afar (the powerplant trio: 66.5 % against 87.2 % at 900 s with the
+  // whole frame guarded); the contacts it prevents were roofs below and walls beside.
+  bool guard_blocks(const KnownSpaceGuard& g, const Eigen::Vector3d& c) const {
+    if (!g.active || (c - g.origin).norm() > config.known_space_horizon_m) return false;
+    Eigen::AlignedBox3d box = frame_box(c);
+    box.max().z() = std::min(box.max().z(), g.exempt.max().z());
+    return box.min().z() <= box.max().z() && map.touches_unseen(box, g.exempt);
+  }
+  // The state validity: the body clear of obstacles, the frame of known space near the robot.
+  bool valid(const Eigen::Isometry3d& T_world_body) const {
+    return !map.collides(T_world_body) && !guard_blocks(guard, T_world_body.translation());
+  }
+  // A query from `robot`: the guard moves there, and the roadmap forgets what it knew valid
+  // within the horizon (checked then without the guard, or from elsewhere).
+  void move_guard(const msg::Waypoint& robot) {
+    guard = guard_at(center_of(robot));
+    if (!guard.active || planner->vertex_count() == 0) return;
+    const double reach = config.known_space_horizon_m + config.frame_half_extents_m.norm();
+    auto state_touches = [&](const ob::State* s) {
+      return (pose_of(s).translation() - guard.origin).norm() <= reach;
+    };
+    auto motion_touches = [&](const ob::State* a, const ob::State* b) {
+      const Eigen::Vector3d ca = pose_of(a).translation(), cb = pose_of(b).translation();
+      const Eigen::Vector3d d = cb - ca;
+      const double t = d.squaredNorm() > 0
+                           ? std::clamp((guard.origin - ca).dot(d) / d.squaredNorm(), 0.0, 1.0)
+                           : 0.0;
+      return (ca + t * d - guard.origin).norm() <= reach;
+    };
+    planner->forget_validity(state_touches, motion_touches);
+  }
+
   // --- the roadmap's cached validity, forgotten near changed blocks ---
   std::pair<size_t, size_t> forget_near(const std::vector<tsdf::BlockIndex>& changed) {
     if (changed.empty() || planner->vertex_count() == 0) return {0, 0};
@@ -379,7 +439,7 @@ struct MotionPlanner::Impl {
       return false;
     if (config.unknown_is_occupied && map.state_at(center_of(goal)) == tsdf::VoxelState::kUnknown)
       return false;
-    return !map.collides(pose_of(goal));
+    return valid(pose_of(goal));
   }
 
   // LazyPRM* takes its optimization objective (the edges' weights) at setup(), which
@@ -411,6 +471,7 @@ RoadmapDistances MotionPlanner::Impl::roadmap_distances(const msg::Waypoint& fro
     r.message = "no map yet";
     return r;
   }
+  move_guard(from);
   if (map.collides(pose_of(from))) {
     r.status = PlanStatus::kStartInCollision;
     std::snprintf(buf, sizeof buf, "body at (%.2f, %.2f, %.2f) overlaps %s", from.position.x,
@@ -482,6 +543,7 @@ PlanResult MotionPlanner::Impl::plan(const PlanRequest& q) {
                   config.max_map_age_s);
     return fail(PlanStatus::kMapStale, buf, q.goal);
   }
+  move_guard(q.start);
   if (map.collides(pose_of(q.start))) {
     std::snprintf(buf, sizeof buf, "body at the start (%.2f, %.2f, %.2f) overlaps %s",
                   q.start.position.x, q.start.position.y, q.start.position.z,
@@ -497,6 +559,14 @@ PlanResult MotionPlanner::Impl::plan(const PlanRequest& q) {
     std::snprintf(buf, sizeof buf, "body at the goal (%.2f, %.2f, %.2f) overlaps %s",
                   q.goal.position.x, q.goal.position.y, q.goal.position.z,
                   config.unknown_is_occupied ? "occupied or unknown space" : "occupied space");
+    return fail(PlanStatus::kGoalInCollision, buf, q.goal);
+  }
+  if (guard_blocks(guard, center_of(q.goal))) {
+    std::snprintf(buf, sizeof buf,
+                  "frame at the goal (%.2f, %.2f, %.2f) overlaps unknown space %.1f m or less "
+                  "from the robot",
+                  q.goal.position.x, q.goal.position.y, q.goal.position.z,
+                  config.known_space_horizon_m);
     return fail(PlanStatus::kGoalInCollision, buf, q.goal);
   }
 
@@ -633,6 +703,11 @@ RoadmapDistances MotionPlanner::roadmap_distances(const msg::Waypoint& from,
 
 bool MotionPlanner::is_free(const msg::Waypoint& pose) const {
   return impl_->map.has_map() && finite(pose) && !impl_->map.collides(impl_->pose_of(pose));
+}
+bool MotionPlanner::is_free_from(const msg::Waypoint& pose, const msg::Waypoint& robot) const {
+  const Impl& m = *impl_;
+  return is_free(pose) && finite(robot) &&
+         !m.guard_blocks(m.guard_at(m.center_of(robot)), m.center_of(pose));
 }
 void MotionPlanner::clear_roadmap() {
   impl_->planner->clear();

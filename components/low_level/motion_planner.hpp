@@ -143,6 +143,10 @@ class MotionPlanner {
   // Whether the body at this pose is clear of the current map's obstacles (false without a
   // map).
   bool is_free(const msg::Waypoint& pose) const;
+  // is_free(), and with the known-space guard (planner_config.hpp, frame_half_extents_m)
+  // the frame at `pose` clear of unknown space where `pose` is within the horizon of the
+  // robot at `robot` (the voxels the frame overlaps there aside).
+  bool is_free_from(const msg::Waypoint& pose, const msg::Waypoint& robot) const;
   // Drops the roadmap (the next query builds a new one).
   void clear_roadmap();
   size_t roadmap_vertices() const;
