@@ -11,8 +11,10 @@
 //           centralized and distributed;
 //   budget: per scene (explore_bench.cpp), the same for every team.
 // Resumable: a run whose directory holds its metrics.json and exit status is not run again.
-// --quick: the smallest indoor and outdoor scenes of seeds 1-20, short budgets, fewer teams;
-// it fails (exit 1) when a run failed or wrote inconsistent metrics (check_explore_run).
+// --quick: the smallest indoor and outdoor scenes of seeds 1-20: a ground pair (centralized
+// and distributed) on the indoor budget, one multirotor on a short one; it fails (exit 1)
+// when a run failed or wrote inconsistent metrics (check_explore_run), or a ground run did
+// not complete, stayed under 95 % of the reachable surface or touched something.
 // Writes OUT/explore.md and OUT/explore.csv after every run; --json prints every run and
 // the summary rows. --only: a subset of the runs (an A/B on some rows).
 
