@@ -358,6 +358,10 @@ int run_explore_bench(const ExploreOptions& o) {
         ++bad;
       }
     }
+    if (asserted == 0) {
+      std::fprintf(stderr, "scancrew bench explore --quick: no ground run to assert\n");
+      ++bad;
+    }
     if (bad > 0) return 1;
     std::fprintf(stderr,
                  "scancrew bench explore --quick: %zu runs, metrics consistent; %zu ground runs "

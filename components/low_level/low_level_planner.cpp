@@ -157,10 +157,11 @@ Result<void, std::string> LowLevelPlanner::on_configure() {
                                            if (s->mode == Mode::kLost) {
                                              t.state.mode = Mode::kLost;
                                              t.state.velocity_mps = {};
-                                             return;
+                                           } else {
+                                             t.state = *s;
+                                             t.seen = true;
                                            }
-                                           t.state = *s;
-                                           t.seen = true;
+                                           park_lost_teammates();
                                          });
     create_subscription<msg::LocalPath>(
         ns + "local_path", {.depth = 1},
@@ -398,6 +399,21 @@ void LowLevelPlanner::plan_to_goal() {
   if (consecutive_failures_ >= config_.max_consecutive_failures || tour_->done())
     request_replan(ReplanReason::kInfeasible, 0,
                    std::to_string(consecutive_failures_) + " viewpoints without a path");
+}
+
+// A lost teammate never moves again: the planner keeps the body clear of it, so that a
+// path is planned round it (the traffic policy would hold the robot behind it for good;
+// the split arena team ran out of time with robot 1 held 1.1 m behind killed robot 3).
+void LowLevelPlanner::park_lost_teammates() {
+  if (!planner_) return;
+  std::vector<Eigen::Vector3d> centers;
+  double radius = 0;
+  for (const Teammate& t : teammates_)
+    if (t.seen && t.state.mode == Mode::kLost) {
+      centers.push_back(msg::to_eigen(t.state.T_world_body.position));
+      radius = std::max(radius, t.traffic_radius_m);
+    }
+  planner_->set_parked(std::move(centers), radius);
 }
 
 std::optional<msg::Waypoint> LowLevelPlanner::nudged_goal(const msg::Waypoint& goal,

@@ -184,8 +184,9 @@ class LowLevelPlanner final : public Component {
   // goal_nudge_max_m.
   std::optional<msg::Waypoint> nudged_goal(const msg::Waypoint& goal,
                                            const msg::Waypoint& robot) const;
-  void watch_motion();  // goal reached, obstacle, traffic
-  void watch_stall();   // no progress on the path: plan again, then skip the goal
+  void park_lost_teammates();  // the lost teammates' bodies to the motion planner
+  void watch_motion();         // goal reached, obstacle, traffic
+  void watch_stall();          // no progress on the path: plan again, then skip the goal
   // At a path to the current goal (`planned_m` long, the goal `left_m` away in a straight
   // line): the first records the budget; a later one is over it when the way travelled
   // since the first plus left_m (a lower bound of the rest: a sampling planner's path

@@ -301,36 +301,60 @@ struct MotionPlanner::Impl {
   // Whether the frame at c overlaps unknown space the guard forbids: space no higher than
   // the frame's top where the robot is. Higher, unknown space stays free: the level camera
   // never sees the air above the robot, so a climb would be refused everywhere the robot
-  // has not looked from afar (the powerplant trio: 66.5 % against 87.2 % at 900 s with the
-  // whole frame guarded); the contacts it prevents were roofs below and walls beside.
+  // has not looked from afar (the powerplant trio: 69.2 % against 87.6 % of the reachable
+  // surface at 900 s with the whole frame guarded); the contacts it prevents were roofs
+  // below and walls beside.
   bool guard_blocks(const KnownSpaceGuard& g, const Eigen::Vector3d& c) const {
     if (!g.active || (c - g.origin).norm() > config.known_space_horizon_m) return false;
     Eigen::AlignedBox3d box = frame_box(c);
     box.max().z() = std::min(box.max().z(), g.exempt.max().z());
     return box.min().z() <= box.max().z() && map.touches_unseen(box, g.exempt);
   }
-  // The state validity: the body clear of obstacles, the frame of known space near the robot.
-  bool valid(const Eigen::Isometry3d& T_world_body) const {
-    return !map.collides(T_world_body) && !guard_blocks(guard, T_world_body.translation());
+  // --- teammates parked for good (set_parked) ---
+  std::vector<Eigen::Vector3d> parked;
+  double parked_radius_m = 0;
+  // Centre distance: in the plane for a ground robot (its body's z is not the teammate's).
+  double gap(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+    return ground() ? (a - b).head<2>().norm() : (a - b).norm();
   }
-  // A query from `robot`: the guard moves there, and the roadmap forgets what it knew valid
-  // within the horizon (checked then without the guard, or from elsewhere).
-  void move_guard(const msg::Waypoint& robot) {
-    guard = guard_at(center_of(robot));
-    if (!guard.active || planner->vertex_count() == 0) return;
-    const double reach = config.known_space_horizon_m + config.frame_half_extents_m.norm();
+  bool clear_of_parked(const Eigen::Vector3d& c) const {
+    const double clearance = body.bounding_radius_m() + parked_radius_m;
+    return std::all_of(parked.begin(), parked.end(),
+                       [&](const Eigen::Vector3d& p) { return gap(c, p) >= clearance; });
+  }
+  // Resets the roadmap's cached validity of the vertices within `reach` of `at` and the
+  // edges passing within it; returns how many.
+  size_t forget_ball(const Eigen::Vector3d& at, double reach) {
     auto state_touches = [&](const ob::State* s) {
-      return (pose_of(s).translation() - guard.origin).norm() <= reach;
+      return gap(pose_of(s).translation(), at) <= reach;
     };
     auto motion_touches = [&](const ob::State* a, const ob::State* b) {
       const Eigen::Vector3d ca = pose_of(a).translation(), cb = pose_of(b).translation();
       const Eigen::Vector3d d = cb - ca;
-      const double t = d.squaredNorm() > 0
-                           ? std::clamp((guard.origin - ca).dot(d) / d.squaredNorm(), 0.0, 1.0)
-                           : 0.0;
-      return (ca + t * d - guard.origin).norm() <= reach;
+      const double t =
+          d.squaredNorm() > 0 ? std::clamp((at - ca).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+      return gap(ca + t * d, at) <= reach;
     };
-    planner->forget_validity(state_touches, motion_touches);
+    const auto [vertices, edges] = planner->forget_validity(state_touches, motion_touches);
+    return vertices + edges;
+  }
+
+  // The state validity: the body clear of obstacles and of parked teammates, the frame of
+  // known space near the robot.
+  bool valid(const Eigen::Isometry3d& T_world_body) const {
+    return !map.collides(T_world_body) && clear_of_parked(T_world_body.translation()) &&
+           !guard_blocks(guard, T_world_body.translation());
+  }
+  // A query from `robot`: the guard moves there, and the roadmap forgets what it knew valid
+  // within the horizon (checked then without the guard, or from elsewhere). The query's
+  // start is taken for the robot: roadmap_distances() from a viewpoint measures the guard
+  // from that viewpoint (no profile sets the guard on the high-level planner's roadmap).
+  // Returns how many roadmap vertices and edges it reset.
+  size_t move_guard(const msg::Waypoint& robot) {
+    guard = guard_at(center_of(robot));
+    if (!guard.active || planner->vertex_count() == 0) return 0;
+    return forget_ball(guard.origin,
+                       config.known_space_horizon_m + config.frame_half_extents_m.norm());
   }
 
   // --- the roadmap's cached validity, forgotten near changed blocks ---
@@ -543,7 +567,7 @@ PlanResult MotionPlanner::Impl::plan(const PlanRequest& q) {
                   config.max_map_age_s);
     return fail(PlanStatus::kMapStale, buf, q.goal);
   }
-  move_guard(q.start);
+  const size_t guard_forgotten = move_guard(q.start);
   if (map.collides(pose_of(q.start))) {
     std::snprintf(buf, sizeof buf, "body at the start (%.2f, %.2f, %.2f) overlaps %s",
                   q.start.position.x, q.start.position.y, q.start.position.z,
@@ -575,6 +599,7 @@ PlanResult MotionPlanner::Impl::plan(const PlanRequest& q) {
   grow_bounds(ends);
 
   PlanResult r;
+  r.stats.guard_forgotten = guard_forgotten;
   ob::ScopedState<> start(space), goal(space);
   set_state(start.get(), q.start);
   set_state(goal.get(), q.goal);
@@ -702,7 +727,18 @@ RoadmapDistances MotionPlanner::roadmap_distances(const msg::Waypoint& from,
 }
 
 bool MotionPlanner::is_free(const msg::Waypoint& pose) const {
-  return impl_->map.has_map() && finite(pose) && !impl_->map.collides(impl_->pose_of(pose));
+  const Impl& m = *impl_;
+  return m.map.has_map() && finite(pose) && !m.map.collides(m.pose_of(pose)) &&
+         m.clear_of_parked(m.center_of(pose));
+}
+void MotionPlanner::set_parked(std::vector<Eigen::Vector3d> centers, double radius_m) {
+  Impl& m = *impl_;
+  if (centers == m.parked && radius_m == m.parked_radius_m) return;
+  m.parked_radius_m = radius_m;
+  const double reach = m.body.bounding_radius_m() + radius_m;
+  for (const Eigen::Vector3d& c : centers)
+    if (std::find(m.parked.begin(), m.parked.end(), c) == m.parked.end()) m.forget_ball(c, reach);
+  m.parked = std::move(centers);
 }
 bool MotionPlanner::is_free_from(const msg::Waypoint& pose, const msg::Waypoint& robot) const {
   const Impl& m = *impl_;

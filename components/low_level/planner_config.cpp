@@ -15,6 +15,9 @@ std::string PlannerConfig::validate() const {
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(frame_half_extents_m[i]) || frame_half_extents_m[i] < 0)
       return "frame_half_extents_m: must be >= 0";
+  if (robot_kind == RobotKind::kGround && (frame_half_extents_m.array() > 0).any())
+    return "frame_half_extents_m: the known-space guard is for multirotors (a ground "
+           "robot's frame reaches the floor it cannot see)";
   if (!std::isfinite(known_space_horizon_m) || known_space_horizon_m < 0)
     return "known_space_horizon_m: must be >= 0";
   if (!std::isfinite(max_map_age_s) || max_map_age_s < 0) return "max_map_age_s: must be >= 0";

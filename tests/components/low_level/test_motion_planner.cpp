@@ -225,6 +225,7 @@ double max_x_within(const std::vector<msg::Waypoint>& path, const V3& from, doub
 TEST(MotionPlanner, MultirotorFrameStaysInKnownSpaceNearTheRobot) {
   BoxWorld world(0.2, Eigen::AlignedBox3d(V3(0, 0, -0.4), V3(10, 10, 6)));
   world.add_box(V3(-1, -1, -0.4), V3(11, 11, 0));
+  world.add_box(V3(2.5, 3.5, 0), V3(3.2, 6.5, 6));  // a pillar: x = 1 to 14 needs the roadmap
   const auto map = world.write();
   PlannerConfig open = guarded_config();
   open.frame_half_extents_m.setZero();
@@ -245,14 +246,19 @@ TEST(MotionPlanner, MultirotorFrameStaysInKnownSpaceNearTheRobot) {
 
   // a goal in the unknown beyond: the path leaves known space only past the horizon or
   // above the frame's top where the robot is (frame at z <= 3.4 reaches z <= 3.2; its half
-  // diagonal 0.71 m, voxels of 0.2 m: x < 9.29 within 5 m). From x = 1 first:
-  // the roadmap then holds edges through x = 10 checked without the guard, and the second
-  // query, from x = 7, must not reuse them
-  for (const double x0 : {1.0, 7.0}) {
-    const PlanResult r = planner->plan(request(pose(x0, 5, 3), pose(14, 5, 3)));
-    ASSERT_EQ(r.status, PlanStatus::kOk) << r.message;
-    EXPECT_LT(max_x_within(r.path, V3(x0, 5, 3), 5.0, 3.4), 9.3) << "from x = " << x0;
-  }
+  // diagonal 0.71 m, voxels of 0.2 m: x < 9.29 within 5 m). From x = 1 first, round the
+  // pillar on the roadmap, whose vertices and edges near x = 7 are then checked valid
+  // without the guard (beyond 5 m of the robot); the second query, from x = 7, checks
+  // them again
+  const PlanResult first = planner->plan(request(pose(1, 5, 3), pose(14, 5, 3)));
+  ASSERT_EQ(first.status, PlanStatus::kOk) << first.message;
+  EXPECT_FALSE(first.stats.direct);
+  ASSERT_GT(planner->roadmap_vertices(), 0u);
+  const PlanResult second = planner->plan(request(pose(7, 5, 3), pose(14, 5, 3)));
+  ASSERT_EQ(second.status, PlanStatus::kOk) << second.message;
+  EXPECT_FALSE(second.stats.direct);
+  EXPECT_GT(second.stats.guard_forgotten, 0u);
+  EXPECT_LT(max_x_within(second.path, V3(7, 5, 3), 5.0, 3.4), 9.3);
 
   // a robot whose frame is already in unknown space may leave it (those voxels are exempt)
   const PlanResult away = planner->plan(request(pose(9.5, 5, 3), pose(5, 5, 3)));
@@ -267,6 +273,42 @@ TEST(MotionPlanner, MultirotorFrameStaysInKnownSpaceNearTheRobot) {
   ASSERT_TRUE(descending.has_value());
   descending->update_map(map, kStampNs);
   EXPECT_EQ(descending->plan(request(pose(5, 5, 7.5), pose(5, 5, 3))).status, PlanStatus::kNoPath);
+}
+
+TEST(MotionPlanner, APathGoesRoundAParkedTeammate) {
+  BoxWorld world(0.2, Eigen::AlignedBox3d(V3(0, 0, -0.4), V3(10, 10, 6)));
+  world.add_box(V3(-1, -1, -0.4), V3(11, 11, 0));
+  PlannerConfig c;
+  c.robot_kind = RobotKind::kMultirotor;
+  c.seed = 1;
+  c.collision_check_step_m = 0.1;
+  auto planner = MotionPlanner::create(c);
+  ASSERT_TRUE(planner.has_value());
+  planner->update_map(world.write(), kStampNs);
+  const PlanRequest q = request(pose(2, 5, 3), pose(8, 5, 3));
+  ASSERT_TRUE(planner->plan(q).stats.direct);  // the roadmap's first query: nothing cached
+
+  // a lost teammate (radius 0.5 m) halfway: the body (1.1 m with the margin) keeps clear
+  const V3 teammate(5, 5, 3);
+  planner->set_parked({teammate}, 0.5);
+  EXPECT_FALSE(planner->is_free(pose(5, 5, 3)));
+  EXPECT_FALSE(planner->is_free(pose(5, 6.5, 3)));
+  EXPECT_TRUE(planner->is_free(pose(5, 6.7, 3)));
+  const PlanResult r = planner->plan(q);
+  ASSERT_EQ(r.status, PlanStatus::kOk) << r.message;
+  EXPECT_FALSE(r.stats.direct);
+  double nearest = 1e9;
+  for (size_t i = 1; i < r.path.size(); ++i) {
+    const V3 a(r.path[i - 1].position.x, r.path[i - 1].position.y, r.path[i - 1].position.z);
+    const V3 b(r.path[i].position.x, r.path[i].position.y, r.path[i].position.z);
+    for (int k = 0; k <= 100; ++k)
+      nearest = std::min(nearest, (a + (b - a) * (k / 100.0) - teammate).norm());
+  }
+  EXPECT_GE(nearest, 1.6 - 0.02);
+
+  // back (or gone): the straight path again
+  planner->set_parked({}, 0);
+  EXPECT_TRUE(planner->plan(q).stats.direct);
 }
 
 TEST(MotionPlanner, StartInsideTheWallIsStartInCollision) {
