@@ -58,6 +58,21 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   mapper.params["mesh_path"] = s.arch == "distributed" ? "{out}/mesh_{ns}.ply" : "{out}/mesh.ply";
   mapper.params["octomap_path"] = s.arch == "distributed" ? "{out}/map_{ns}.bt" : "{out}/map.bt";
   g.push_back(mapper);
+  if (s.reconstruction_voxel_m > 0) {
+    // the reconstruction: the same depth in a finer map whose mesh is the result (the
+    // profile's mapper section fills the rest). Its truncation is 5 of its voxels: at the
+    // multirotors' 8 m range 3 sigma of the depth noise is 0.47 m (docs/missions.md, "A finer
+    // reconstruction map"). Nothing reads its map topic, renamed so no planner takes it.
+    ComponentPlan recon{.name = "recon", .type = "tsdf_mapper", .per_robot = !centralized};
+    recon.params["mode"] = s.arch;
+    if (masked) recon.params["depth_topic"] = "depth_masked";
+    recon.params["voxel_m"] = number(s.reconstruction_voxel_m);
+    recon.params["truncation_m"] = number(5 * s.reconstruction_voxel_m);
+    recon.params["snapshot_every"] = 100000;  // no snapshot until the final mesh
+    recon.params["mesh_path"] = "{out}/mesh_recon.ply";
+    recon.remap["map"] = centralized ? "/map_recon" : "map_recon";
+    g.push_back(recon);
+  }
   // the ISE criterion's bound: the scene's bounds are the region to reconstruct. Outdoors
   // the floor runs on past them, and its edge, with unknown space beyond, would stay an
   // ISE for ever (docs/ise.md, "The region to reconstruct")
@@ -113,6 +128,10 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   if (s.arch != "single" && s.arch != "centralized" && s.arch != "distributed")
     return make_unexpected("architecture '" + s.arch +
                            "': allowed: single, centralized, distributed");
+  if (s.reconstruction_voxel_m > 0 && s.arch == "distributed")
+    return make_unexpected(
+        "reconstruction_voxel_m: a distributed team has no map that all the depth reaches; "
+        "single or centralized only");
   if (s.robots == 0 || (s.arch == "single" && s.robots != 1))
     return make_unexpected("architecture " + s.arch + " with " + std::to_string(s.robots) +
                            " robots: single takes 1, the others 1 or more");
@@ -178,8 +197,16 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
     root["robots"].push_back(r);
   }
   for (ComponentPlan& c : architecture_graph(s, *scene, s.robots > 1)) {
-    merge_section(*profile, c.name, c.params);
-    merge_section(*profile, c.name + "_" + s.arch, c.params);
+    // the reconstruction map takes the planning map's parameters where it sets none
+    const std::string section = c.name == "recon" ? "mapper" : c.name;
+    if (c.name == "monitor" && s.reconstruction_voxel_m > 0) {
+      // both meshes scored at the planning map's e_max, the thesis's (r_v sqrt(3) / 2)
+      const YAML::Node voxel = (*profile)["mapper"]["voxel_m"];
+      if (voxel.IsDefined() && voxel.IsScalar())
+        c.params["eval_e_max_m"] = number(voxel.as<double>() * std::sqrt(3.0) / 2);
+    }
+    merge_section(*profile, section, c.params);
+    merge_section(*profile, section + "_" + s.arch, c.params);
     YAML::Node n(YAML::NodeType::Map);
     n["name"] = c.name;
     n["type"] = c.type;
@@ -195,7 +222,7 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
          "\n";
 }
 
-Result<std::string, std::string> launch_file_text(const std::string& path) {
+Result<std::string, std::string> launch_file_text(const std::string& path, size_t robots) {
   const auto text = read_text_file(path);
   if (!text) return make_unexpected(path + ": cannot open the launch file");
   auto root = parse_yaml(*text, path);
@@ -206,7 +233,7 @@ Result<std::string, std::string> launch_file_text(const std::string& path) {
   if (!m.IsMap())
     return make_unexpected(yaml_location(path, m) +
                            ": mission: a mapping of scene, kind, robots, architecture, "
-                           "duration_s, seed");
+                           "duration_s, seed, reconstruction_voxel_m");
   MissionSpec spec;
   for (const auto& kv : m) {
     const std::string key = kv.first.Scalar();
@@ -225,10 +252,12 @@ Result<std::string, std::string> launch_file_text(const std::string& path) {
         spec.duration_s = v.as<double>();
       else if (key == "seed")
         spec.seed = v.as<int>();
+      else if (key == "reconstruction_voxel_m")
+        spec.reconstruction_voxel_m = v.as<double>();
       else
         return make_unexpected(where +
                                ": unknown key; allowed: scene, kind, robots, architecture, "
-                               "duration_s, seed");
+                               "duration_s, seed, reconstruction_voxel_m");
     } catch (const YAML::Exception&) {
       return make_unexpected(where + ": not a valid value");
     }
@@ -236,8 +265,12 @@ Result<std::string, std::string> launch_file_text(const std::string& path) {
   for (const char* required : {"scene", "kind", "robots", "architecture"})
     if (!m[required].IsDefined())
       return make_unexpected(path + ": mission." + required + " is required");
+  if (robots > 0) spec.robots = robots;  // --robots N
   if (!(spec.duration_s > 0 && std::isfinite(spec.duration_s)))
     return make_unexpected(path + ": mission.duration_s must be > 0");
+  if (m["reconstruction_voxel_m"].IsDefined() &&
+      !(spec.reconstruction_voxel_m > 0 && std::isfinite(spec.reconstruction_voxel_m)))
+    return make_unexpected(path + ": mission.reconstruction_voxel_m must be > 0");
   auto composed = compose_mission(spec);
   if (!composed) return make_unexpected(path + ": " + composed.error());
   return composed;

@@ -26,7 +26,11 @@ struct MissionSpec {
   size_t robots = 1;
   std::string arch = "distributed";  // single | centralized | distributed
   double duration_s = 600;
-  int seed = 1;              // the simulator's and the low-level planners' seed
+  int seed = 1;  // the simulator's and the low-level planners' seed
+  // > 0: a second, finer TSDF map of the same depth (component `recon`) whose mesh is the
+  // mission's result, scored at the planning map's e_max; nothing plans on it. Single and
+  // centralized only (a distributed team has no map that all the depth reaches).
+  double reconstruction_voxel_m = 0;
   std::string profile_path;  // "": launch_cfg/profiles/<kind>.yaml under profile_root
   std::string profile_root = "launch_cfg/profiles";
   std::string compute_time;  // "": the launch's default (charged for a mission)
@@ -38,9 +42,10 @@ Result<std::string, std::string> compose_mission(const MissionSpec& spec);
 // mission file (a mapping with the one key `mission`), the composed mission:
 //   mission: {scene: launch_cfg/scenes/parking_lot.yaml, kind: ground, robots: 2,
 //             architecture: distributed, duration_s: 900, seed: 1}
-// scene, kind, robots and architecture are required; duration_s (600) and seed (1) are
-// not; any other key is an error naming it. scancrew run and graph read launch files
-// through it.
-Result<std::string, std::string> launch_file_text(const std::string& path);
+// scene, kind, robots and architecture are required; duration_s (600), seed (1) and
+// reconstruction_voxel_m (none) are not; any other key is an error naming it. `robots` > 0
+// (scancrew run --robots N) composes a mission file with N robots instead of its own count.
+// scancrew run and graph read launch files through it.
+Result<std::string, std::string> launch_file_text(const std::string& path, size_t robots = 0);
 
 }  // namespace scancrew::cli

@@ -475,7 +475,7 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
 }  // namespace
 
 int run_launch(const RunOptions& o) {
-  const auto text = launch_file_text(o.launch_path);
+  const auto text = launch_file_text(o.launch_path, o.robot_count);
   if (!text) {
     std::fprintf(stderr, "scancrew: %s; nothing was started\n", text.error().c_str());
     return 2;
