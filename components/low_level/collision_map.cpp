@@ -203,29 +203,6 @@ tsdf::VoxelState CollisionMap::state_at(const Eigen::Vector3d& p) const {
   return impl_->snapshot->state_at(p);
 }
 
-bool CollisionMap::touches_unseen(const Eigen::AlignedBox3d& box,
-                                  const Eigen::AlignedBox3d& exempt) const {
-  const Impl& m = *impl_;
-  if (!m.snapshot) return true;
-  const double v = m.voxel_m;
-  // the voxels a box overlaps: indices floor(min / v) .. floor(max / v)
-  auto range = [v](const Eigen::AlignedBox3d& b) {
-    return Eigen::AlignedBox3i((b.min() / v).array().floor().cast<int>().matrix(),
-                               (b.max() / v).array().floor().cast<int>().matrix());
-  };
-  const Eigen::AlignedBox3i r = range(box);
-  const Eigen::AlignedBox3i skip = exempt.isEmpty() ? Eigen::AlignedBox3i() : range(exempt);
-  for (int z = r.min().z(); z <= r.max().z(); ++z)
-    for (int y = r.min().y(); y <= r.max().y(); ++y)
-      for (int x = r.min().x(); x <= r.max().x(); ++x) {
-        const tsdf::VoxelIndex i(x, y, z);
-        if (!skip.isEmpty() && skip.contains(i)) continue;
-        const tsdf::Voxel* voxel = m.snapshot->voxel(i);
-        if (voxel == nullptr || !(voxel->weight > 0) || !(voxel->distance_m > 0)) return true;
-      }
-  return false;
-}
-
 const RobotBody& CollisionMap::body() const {
   return impl_->body;
 }

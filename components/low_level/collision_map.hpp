@@ -59,12 +59,6 @@ class CollisionMap {
   Eigen::AlignedBox3d extents() const;
   // The state of the voxel holding p: kUnknown outside the observed blocks too.
   tsdf::VoxelState state_at(const Eigen::Vector3d& p) const;
-  // Whether a voxel overlapping `box` (world) has not been seen empty: never observed
-  // (weight 0, or its block never observed) or observed behind a surface (φ ≤ 0), at any
-  // weight: one observation of empty space is evidence enough to enter it, where W_th
-  // (with the 1/z² weight, ~8 frames at 5 m) is the surface's and the ISEs' threshold. The
-  // voxels overlapping `exempt` aside; true without a map.
-  bool touches_unseen(const Eigen::AlignedBox3d& box, const Eigen::AlignedBox3d& exempt) const;
   const RobotBody& body() const;
   bool unknown_is_occupied() const;
   size_t leaf_count() const;  // leaves of the (pruned) tree, free ones included

@@ -82,9 +82,6 @@ LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
   p.optional("ground_traffic_radius_m", c.ground_traffic_radius_m, {0.01, 100});
   p.optional("multirotor_traffic_radius_m", c.multirotor_traffic_radius_m, {0.01, 100});
   c.planner = read_planner_config(p);
-  // the known-space guard's horizon is the re-check's: the part of the path ahead that a
-  // newer map is checked against (planner_config.hpp, frame_half_extents_m)
-  c.planner.known_space_horizon_m = c.path_recheck_horizon_m;
   c.ground_checks = read_checks_config(p, RobotKind::kGround);
   c.multirotor_checks = read_checks_config(p, RobotKind::kMultirotor);
   return c;
@@ -380,7 +377,7 @@ void LowLevelPlanner::plan_to_goal() {
     return;
   }
   if (r.status == PlanStatus::kGoalInCollision) {
-    if (auto w = nudged_goal(tour_->goal(), request.start)) {
+    if (auto w = nudged_goal(tour_->goal())) {
       log_once("nudged", r.message +
                              " (moved to the nearest free pose within goal_nudge_max_m; further "
                              "such cases are counted)");
@@ -416,8 +413,7 @@ void LowLevelPlanner::park_lost_teammates() {
   planner_->set_parked(std::move(centers), radius);
 }
 
-std::optional<msg::Waypoint> LowLevelPlanner::nudged_goal(const msg::Waypoint& goal,
-                                                          const msg::Waypoint& robot) const {
+std::optional<msg::Waypoint> LowLevelPlanner::nudged_goal(const msg::Waypoint& goal) const {
   constexpr int kDirections = 16;
   for (double r = config_.backoff_step_m; r <= config_.goal_nudge_max_m + 1e-9;
        r += config_.backoff_step_m)
@@ -426,7 +422,7 @@ std::optional<msg::Waypoint> LowLevelPlanner::nudged_goal(const msg::Waypoint& g
       msg::Waypoint w = goal;
       w.position.x += r * std::cos(angle);
       w.position.y += r * std::sin(angle);
-      if (planner_->is_free_from(w, robot)) return w;
+      if (planner_->is_free(w)) return w;
     }
   return std::nullopt;
 }
@@ -490,7 +486,7 @@ std::optional<msg::Waypoint> LowLevelPlanner::escape_pose(const msg::Waypoint& s
     return true;
   };
   const auto free = [&](const msg::Waypoint& w) {
-    return clear_of_teammates(w) && planner_->is_free_from(w, start);
+    return clear_of_teammates(w) && planner_->is_free(w);
   };
   // from backoff_min_m: an escape pose within the tracker's position tolerance would be
   // "reached" without a move, and the robot would back off on the spot forever
@@ -559,12 +555,10 @@ void LowLevelPlanner::watch_motion() {
   }
   if (map_unchecked_ && !stopped_ && config_.path_recheck_horizon_m > 0) {
     map_unchecked_ = false;
-    msg::Waypoint robot;
-    robot.position = {position.x(), position.y(), position.z()};
     const PathRecheck r =
         recheck_path(local_path_, position, config_.path_recheck_horizon_m,
                      config_.planner.collision_check_step_m,
-                     [&](const msg::Waypoint& w) { return planner_->is_free_from(w, robot); });
+                     [this](const msg::Waypoint& w) { return planner_->is_free(w); });
     if (r.blocked) {
       ++stats_.paths_blocked;
       char what[160];

@@ -180,10 +180,8 @@ class LowLevelPlanner final : public Component {
   // The nearest free pose around the robot (in a fixed order), if any: clear of the
   // teammates, on rings from_m, + backoff_step_m, ... up to backoff_max_m.
   std::optional<msg::Waypoint> escape_pose(const msg::Waypoint& start, double from_m) const;
-  // The nearest free pose to `goal` (is_free_from the robot), same yaw, within
-  // goal_nudge_max_m.
-  std::optional<msg::Waypoint> nudged_goal(const msg::Waypoint& goal,
-                                           const msg::Waypoint& robot) const;
+  // The nearest free pose to `goal` (is_free), same yaw, within goal_nudge_max_m.
+  std::optional<msg::Waypoint> nudged_goal(const msg::Waypoint& goal) const;
   void park_lost_teammates();  // the lost teammates' bodies to the motion planner
   void watch_motion();         // goal reached, obstacle, traffic
   void watch_stall();          // no progress on the path: plan again, then skip the goal

@@ -273,43 +273,6 @@ struct MotionPlanner::Impl {
   }
   bool map_bounds_set = false;
 
-  // --- known space near the robot (planner_config.hpp, frame_half_extents_m) ---
-  struct KnownSpaceGuard {
-    bool active = false;
-    Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // the robot, where the query starts
-    Eigen::AlignedBox3d exempt;  // the frame's box there: the voxels the robot is in
-  };
-  KnownSpaceGuard guard;
-
-  bool guarded() const {
-    return !config.unknown_is_occupied && config.known_space_horizon_m > 0 &&
-           (config.frame_half_extents_m.array() > 0).all();
-  }
-  // The frame's box at a pose, for any yaw (the horizontal half extent is the frame's
-  // half diagonal: the box holds the frame turned either way, and a turn on the spot
-  // needs no check).
-  Eigen::AlignedBox3d frame_box(const Eigen::Vector3d& c) const {
-    const Eigen::Vector3d& h = config.frame_half_extents_m;
-    const double r = h.head<2>().norm();
-    const Eigen::Vector3d e(r, r, h.z());
-    return {c - e, c + e};
-  }
-  KnownSpaceGuard guard_at(const Eigen::Vector3d& robot) const {
-    if (!guarded()) return {};
-    return {true, robot, frame_box(robot)};
-  }
-  // Whether the frame at c overlaps unknown space the guard forbids: space no higher than
-  // the frame's top where the robot is. Higher, unknown space stays free: the level camera
-  // never sees the air above the robot, so a climb would be refused everywhere the robot
-  // has not looked from afar (the powerplant trio: 69.2 % against 87.6 % of the reachable
-  // surface at 900 s with the whole frame guarded); the contacts it prevents were roofs
-  // below and walls beside.
-  bool guard_blocks(const KnownSpaceGuard& g, const Eigen::Vector3d& c) const {
-    if (!g.active || (c - g.origin).norm() > config.known_space_horizon_m) return false;
-    Eigen::AlignedBox3d box = frame_box(c);
-    box.max().z() = std::min(box.max().z(), g.exempt.max().z());
-    return box.min().z() <= box.max().z() && map.touches_unseen(box, g.exempt);
-  }
   // --- teammates parked for good (set_parked) ---
   std::vector<Eigen::Vector3d> parked;
   double parked_radius_m = 0;
@@ -339,24 +302,10 @@ struct MotionPlanner::Impl {
     return vertices + edges;
   }
 
-  // The state validity: the body clear of obstacles and of parked teammates, the frame of
-  // known space near the robot.
+  // The state validity: the body clear of obstacles and of parked teammates.
   bool valid(const Eigen::Isometry3d& T_world_body) const {
-    return !map.collides(T_world_body) && clear_of_parked(T_world_body.translation()) &&
-           !guard_blocks(guard, T_world_body.translation());
+    return !map.collides(T_world_body) && clear_of_parked(T_world_body.translation());
   }
-  // A query from `robot`: the guard moves there, and the roadmap forgets what it knew valid
-  // within the horizon (checked then without the guard, or from elsewhere). The query's
-  // start is taken for the robot: roadmap_distances() from a viewpoint measures the guard
-  // from that viewpoint (no profile sets the guard on the high-level planner's roadmap).
-  // Returns how many roadmap vertices and edges it reset.
-  size_t move_guard(const msg::Waypoint& robot) {
-    guard = guard_at(center_of(robot));
-    if (!guard.active || planner->vertex_count() == 0) return 0;
-    return forget_ball(guard.origin,
-                       config.known_space_horizon_m + config.frame_half_extents_m.norm());
-  }
-
   // --- the roadmap's cached validity, forgotten near changed blocks ---
   std::pair<size_t, size_t> forget_near(const std::vector<tsdf::BlockIndex>& changed) {
     if (changed.empty() || planner->vertex_count() == 0) return {0, 0};
@@ -495,7 +444,6 @@ RoadmapDistances MotionPlanner::Impl::roadmap_distances(const msg::Waypoint& fro
     r.message = "no map yet";
     return r;
   }
-  move_guard(from);
   if (map.collides(pose_of(from))) {
     r.status = PlanStatus::kStartInCollision;
     std::snprintf(buf, sizeof buf, "body at (%.2f, %.2f, %.2f) overlaps %s", from.position.x,
@@ -567,7 +515,6 @@ PlanResult MotionPlanner::Impl::plan(const PlanRequest& q) {
                   config.max_map_age_s);
     return fail(PlanStatus::kMapStale, buf, q.goal);
   }
-  const size_t guard_forgotten = move_guard(q.start);
   if (map.collides(pose_of(q.start))) {
     std::snprintf(buf, sizeof buf, "body at the start (%.2f, %.2f, %.2f) overlaps %s",
                   q.start.position.x, q.start.position.y, q.start.position.z,
@@ -585,21 +532,12 @@ PlanResult MotionPlanner::Impl::plan(const PlanRequest& q) {
                   config.unknown_is_occupied ? "occupied or unknown space" : "occupied space");
     return fail(PlanStatus::kGoalInCollision, buf, q.goal);
   }
-  if (guard_blocks(guard, center_of(q.goal))) {
-    std::snprintf(buf, sizeof buf,
-                  "frame at the goal (%.2f, %.2f, %.2f) overlaps unknown space %.1f m or less "
-                  "from the robot",
-                  q.goal.position.x, q.goal.position.y, q.goal.position.z,
-                  config.known_space_horizon_m);
-    return fail(PlanStatus::kGoalInCollision, buf, q.goal);
-  }
 
   Eigen::AlignedBox3d ends(center_of(q.start));
   ends.extend(center_of(q.goal));
   grow_bounds(ends);
 
   PlanResult r;
-  r.stats.guard_forgotten = guard_forgotten;
   ob::ScopedState<> start(space), goal(space);
   set_state(start.get(), q.start);
   set_state(goal.get(), q.goal);
@@ -739,11 +677,6 @@ void MotionPlanner::set_parked(std::vector<Eigen::Vector3d> centers, double radi
   for (const Eigen::Vector3d& c : centers)
     if (std::find(m.parked.begin(), m.parked.end(), c) == m.parked.end()) m.forget_ball(c, reach);
   m.parked = std::move(centers);
-}
-bool MotionPlanner::is_free_from(const msg::Waypoint& pose, const msg::Waypoint& robot) const {
-  const Impl& m = *impl_;
-  return is_free(pose) && finite(robot) &&
-         !m.guard_blocks(m.guard_at(m.center_of(robot)), m.center_of(pose));
 }
 void MotionPlanner::clear_roadmap() {
   impl_->planner->clear();

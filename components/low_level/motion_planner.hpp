@@ -82,8 +82,6 @@ struct PlanStats {
   double length_m = 0;           // the returned path (state-space distance)
   size_t guide_milestones = 0;   // guided sampling: grid-path poses added to the roadmap
   double guide_ms = 0;           // guided sampling (grid, search, checks)
-  // roadmap vertices and edges the known-space guard made check again (planner_config.hpp)
-  size_t guard_forgotten = 0;
 };
 
 struct PlanResult {
@@ -145,10 +143,6 @@ class MotionPlanner {
   // Whether the body at this pose is clear of the current map's obstacles (false without a
   // map).
   bool is_free(const msg::Waypoint& pose) const;
-  // is_free(), and with the known-space guard (planner_config.hpp, frame_half_extents_m)
-  // the frame at `pose` clear of unknown space where `pose` is within the horizon of the
-  // robot at `robot` (the voxels the frame overlaps there aside).
-  bool is_free_from(const msg::Waypoint& pose, const msg::Waypoint& robot) const;
   // Teammates parked for good (lost: a dead process leaves its robot where it stood, and the
   // maps never held it): discs (ground robots, in the plane) or balls of radius_m around
   // `centers` that the body keeps clear of, in every query and in is_free(). The roadmap

@@ -12,14 +12,6 @@ std::string PlannerConfig::validate() const {
   if (!std::isfinite(ground_body_center_z_m)) return "ground_body_center_z_m: must be finite";
   if (!positive(multirotor_body_radius_m)) return "multirotor_body_radius_m: must be > 0";
   if (!std::isfinite(body_margin_m) || body_margin_m < 0) return "body_margin_m: must be >= 0";
-  for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(frame_half_extents_m[i]) || frame_half_extents_m[i] < 0)
-      return "frame_half_extents_m: must be >= 0";
-  if (robot_kind == RobotKind::kGround && (frame_half_extents_m.array() > 0).any())
-    return "frame_half_extents_m: the known-space guard is for multirotors (a ground "
-           "robot's frame reaches the floor it cannot see)";
-  if (!std::isfinite(known_space_horizon_m) || known_space_horizon_m < 0)
-    return "known_space_horizon_m: must be >= 0";
   if (!std::isfinite(max_map_age_s) || max_map_age_s < 0) return "max_map_age_s: must be >= 0";
   if (!std::isfinite(bounds_margin_m) || bounds_margin_m < 0)
     return "bounds_margin_m: must be >= 0";
@@ -60,9 +52,6 @@ PlannerConfig read_planner_config(ParamReader& p) {
   p.optional("multirotor_body_radius_m", c.multirotor_body_radius_m, {1e-3, 100});
   p.optional("body_margin_m", c.body_margin_m, {0, 10});
   p.optional("unknown_is_occupied", c.unknown_is_occupied);
-  std::vector<double> frame(3, 0.0);
-  p.optional_list("frame_half_extents_m", frame, 3, {0, 100});
-  if (frame.size() == 3) c.frame_half_extents_m = Eigen::Vector3d(frame[0], frame[1], frame[2]);
   p.optional("max_map_age_s", c.max_map_age_s, {0, 1e6});
   p.optional("bounds_margin_m", c.bounds_margin_m, {0, 1000});
   p.optional("multirotor_min_altitude_m", c.multirotor_min_altitude_m, {-1e4, 1e4});

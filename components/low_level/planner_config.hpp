@@ -33,15 +33,6 @@ struct PlannerConfig {
   // --- map ---
   // unknown voxels (and never-observed blocks) collide like occupied ones
   bool unknown_is_occupied = true;
-  // Known space near the robot (not in the thesis; docs/low_level_planner.md, "Known space
-  // near the robot"). With unknown space free, a multirotor flew into roofs and walls its
-  // camera never saw (level, 60° vertical field, blind within 1.6 m). So within
-  // known_space_horizon_m of the robot (the path re-check's horizon, set by the low-level
-  // planner) the robot's frame, a box of these half extents turned by the yaw, may overlap
-  // only known space (the voxels it overlaps where the robot is aside); beyond, unknown
-  // space stays free as the thesis plans it. Zero extents or horizon: off.
-  Eigen::Vector3d frame_half_extents_m = Eigen::Vector3d::Zero();
-  double known_space_horizon_m = 0;
   // a snapshot stamped more than this before the robot's pose is stale (kMapStale)
   double max_map_age_s = 2.0;
 
@@ -83,12 +74,11 @@ struct PlannerConfig {
 RobotBody body_of(const PlannerConfig& config);
 
 // Reads the keys named above (robot_type, ground_body_radii_m [3], ground_body_center_z_m,
-// multirotor_body_radius_m, body_margin_m, unknown_is_occupied, frame_half_extents_m [3],
-// max_map_age_s,
-// bounds_margin_m, multirotor_min_altitude_m, multirotor_max_altitude_m,
-// planner_time_limit_s, collision_check_step_m, path_cost_factor, roadmap_max_vertices,
-// roadmap_distance_min_vertices, roadmap_distance_grow_time_s, guide_grid, goal_tolerance_m,
-// planner_seed); problems are collected in the reader.
+// multirotor_body_radius_m, body_margin_m, unknown_is_occupied, max_map_age_s, bounds_margin_m,
+// multirotor_min_altitude_m, multirotor_max_altitude_m, planner_time_limit_s,
+// collision_check_step_m, path_cost_factor, roadmap_max_vertices, roadmap_distance_min_vertices,
+// roadmap_distance_grow_time_s, guide_grid, goal_tolerance_m, planner_seed); problems are collected
+// in the reader.
 PlannerConfig read_planner_config(ParamReader& p);
 
 }  // namespace scancrew::low_level
