@@ -11,6 +11,7 @@
 #include "eval/missed_points.hpp"
 #include "eval/ply_mesh.hpp"
 #include "eval/reconstruction_error.hpp"
+#include "executors/log.hpp"
 #include "sim/mesh_io.hpp"
 #include "sim/ply_writer.hpp"
 #include "sim/surface_sampler.hpp"
@@ -70,7 +71,8 @@ int run_eval(const EvalOptions& o) {
   auto scene = sim::load_scene(o.scene_path);
   if (!scene) {
     std::fprintf(stderr, "scancrew eval: %zu error(s) in the scene\n", scene.error().size());
-    for (const auto& e : scene.error()) std::fprintf(stderr, "  %s\n", e.c_str());
+    for (const auto& e : scene.error())
+      std::fprintf(stderr, "  %s\n", scancrew::log::printable(e).c_str());
     return 2;
   }
   // the mesh first: a wrong path fails before seconds of sampling

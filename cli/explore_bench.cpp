@@ -61,7 +61,7 @@ Result<BenchScene, std::string> procedural_scene(scenegen::Family family, uint64
   const std::string text = scenegen::write_scene_yaml(
       g->scene, "scancrew scenegen --family " + scenegen::to_string(family) + " --seed " +
                     std::to_string(seed));
-  if (read_text_file(path.string()) != text) {
+  if (const auto old = read_text_file(path.string()); !old || *old != text) {
     std::ofstream f(path);
     f << text;
     if (!f) return make_unexpected("cannot write " + path.string());

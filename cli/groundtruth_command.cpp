@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "executors/log.hpp"
 #include "sim/mesh_io.hpp"
 #include "sim/ply_writer.hpp"
 #include "sim/surface_sampler.hpp"
@@ -13,7 +14,8 @@ int run_groundtruth(const GroundTruthOptions& o) {
   auto scene = sim::load_scene(o.scene_path);
   if (!scene) {
     std::fprintf(stderr, "scancrew groundtruth: %zu error(s) in the scene\n", scene.error().size());
-    for (const auto& e : scene.error()) std::fprintf(stderr, "  %s\n", e.c_str());
+    for (const auto& e : scene.error())
+      std::fprintf(stderr, "  %s\n", scancrew::log::printable(e).c_str());
     return 2;
   }
   const auto start = std::chrono::steady_clock::now();

@@ -16,6 +16,7 @@
 #include "cli/scenegen_command.hpp"
 #include "cli/sweep_command.hpp"
 #include "executors/launch.hpp"
+#include "executors/log.hpp"
 #include "executors/registry.hpp"
 #include "mission/run_report.hpp"
 #ifdef SCANCREW_WITH_BENCH
@@ -34,14 +35,16 @@ namespace {
 std::unique_ptr<scancrew::Launch> compose_or_report(const std::string& path) {
   const auto text = scancrew::cli::launch_file_text(path);
   if (!text) {
-    std::fprintf(stderr, "scancrew: %s; nothing was started\n", text.error().c_str());
+    std::fprintf(stderr, "scancrew: %s; nothing was started\n",
+                 scancrew::log::printable(text.error()).c_str());
     return nullptr;
   }
   auto launch = scancrew::Launch::from_string(*text, path);
   if (!launch) {
     std::fprintf(stderr, "scancrew: %s: %zu error(s); nothing was started\n", path.c_str(),
                  launch.error().size());
-    for (const auto& e : launch.error()) std::fprintf(stderr, "  %s\n", e.c_str());
+    for (const auto& e : launch.error())
+      std::fprintf(stderr, "  %s\n", scancrew::log::printable(e).c_str());
     return nullptr;
   }
   return std::move(launch).value();

@@ -149,7 +149,8 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   const std::string profile_path =
       s.profile_path.empty() ? s.profile_root + "/" + s.kind + ".yaml" : s.profile_path;
   const auto profile_text = read_text_file(profile_path);
-  if (!profile_text) return make_unexpected(profile_path + ": cannot be read");
+  if (!profile_text)
+    return make_unexpected(profile_path + ": cannot read the profile: " + profile_text.error());
   auto profile = parse_yaml(*profile_text, profile_path);
   if (!profile) return make_unexpected(profile.error());
   if (!profile->IsMap()) return make_unexpected(profile_path + ": a profile is a mapping");
@@ -224,7 +225,7 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
 
 Result<std::string, std::string> launch_file_text(const std::string& path, size_t robots) {
   const auto text = read_text_file(path);
-  if (!text) return make_unexpected(path + ": cannot open the launch file");
+  if (!text) return make_unexpected(path + ": cannot read the launch file: " + text.error());
   auto root = parse_yaml(*text, path);
   if (!root || !root->IsMap() || !(*root)["mission"].IsDefined()) return *text;
   const YAML::Node m = (*root)["mission"];

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "executors/log.hpp"
 #include "sim/png_writer.hpp"
 #include "sim/team_sim.hpp"
 
@@ -37,7 +38,8 @@ int run_render(const RenderOptions& o) {
   auto scene = sim::load_scene(o.scene_path);
   if (!scene) {
     std::fprintf(stderr, "scancrew render: %zu error(s) in the scene\n", scene.error().size());
-    for (const auto& e : scene.error()) std::fprintf(stderr, "  %s\n", e.c_str());
+    for (const auto& e : scene.error())
+      std::fprintf(stderr, "  %s\n", scancrew::log::printable(e).c_str());
     return 2;
   }
   // candidate poses: the one asked for, else the corners (1 m in) facing the centre

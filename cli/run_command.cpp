@@ -23,6 +23,7 @@
 #include "eval/reconstruction_error.hpp"
 #include "eval/team_reachable.hpp"
 #include "executors/launch.hpp"
+#include "executors/log.hpp"
 #include "executors/trace.hpp"
 #include "mission/run_files.hpp"
 #include "mission/run_report.hpp"
@@ -477,7 +478,8 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
 int run_launch(const RunOptions& o) {
   const auto text = launch_file_text(o.launch_path, o.robot_count);
   if (!text) {
-    std::fprintf(stderr, "scancrew: %s; nothing was started\n", text.error().c_str());
+    std::fprintf(stderr, "scancrew: %s; nothing was started\n",
+                 scancrew::log::printable(text.error()).c_str());
     return 2;
   }
   auto composed = Launch::from_string(*text, o.launch_path,
@@ -489,7 +491,8 @@ int run_launch(const RunOptions& o) {
   if (!composed) {
     std::fprintf(stderr, "scancrew: %s: %zu error(s); nothing was started\n", o.launch_path.c_str(),
                  composed.error().size());
-    for (const auto& e : composed.error()) std::fprintf(stderr, "  %s\n", e.c_str());
+    for (const auto& e : composed.error())
+      std::fprintf(stderr, "  %s\n", scancrew::log::printable(e).c_str());
     return 2;
   }
   auto launch = std::move(composed).value();
@@ -512,7 +515,8 @@ int run_launch(const RunOptions& o) {
                  "scancrew: %s: %zu error(s): a mission's components must have every input "
                  "connected; nothing was started\n",
                  o.launch_path.c_str(), unconnected.size());
-    for (const auto& e : unconnected) std::fprintf(stderr, "  %s\n", e.c_str());
+    for (const auto& e : unconnected)
+      std::fprintf(stderr, "  %s\n", scancrew::log::printable(e).c_str());
     return 2;
   }
   const fs::path out = launch->out_dir();

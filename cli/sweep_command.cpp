@@ -53,7 +53,7 @@ std::string join(const std::vector<std::string>& items, const char* separator = 
 // A sweep file (architectures: {arch: launch file}, seed_keys: [...]) or a plain launch file.
 Result<SweepPlan, std::string> read_plan(const std::string& path) {
   const auto text = read_text_file(path);
-  if (!text) return make_unexpected(path + ": cannot be read");
+  if (!text) return make_unexpected(path + ": cannot be read: " + text.error());
   auto root = parse_yaml(*text, path);
   if (!root) return make_unexpected(root.error());
   SweepPlan plan;

@@ -256,6 +256,13 @@ Result<sim::TriangleMesh, std::string> parse(const std::string& data) {
       return make_unexpected("the data ends early or holds a non-number: element '" + e.name +
                              "', item " + std::to_string(item) + " of " + std::to_string(e.count));
     };
+    // an element without properties holds no data, whatever its count (2^62 of them looped
+    // for centuries); one with properties takes a byte an item at least
+    if (e.properties.empty()) continue;
+    if (e.count > reader.remaining())
+      return make_unexpected("element '" + e.name + "' counts " + std::to_string(e.count) +
+                             " items, more than the " + std::to_string(reader.remaining()) +
+                             " bytes left in the file");
     values.resize(e.properties.size());
     for (size_t item = 0; item < e.count; ++item) {
       for (size_t k = 0; k < e.properties.size(); ++k) {

@@ -257,6 +257,7 @@ class LaunchBuilder {
       return;
     }
     const auto& registry = ComponentRegistry::instance();
+    std::map<std::string, size_t> first_with_name;  // a name is one component of the file
     for (size_t i = 0; i < node.size(); ++i) {
       ComponentSpec spec;
       spec.path = "components[" + std::to_string(i) + "]";
@@ -274,6 +275,10 @@ class LaunchBuilder {
       if (!valid_name(spec.name))
         errors_.push_back(yaml_location(file_, c["name"]) + ": " + spec.path + ".name: '" +
                           spec.name + "' is not a name; allowed: letters, digits, '_'");
+      if (const auto [it, fresh] = first_with_name.emplace(spec.name, i); !fresh)
+        errors_.push_back(yaml_location(file_, c["name"]) + ": " + spec.path + ".name: '" +
+                          spec.name + "' names components[" + std::to_string(it->second) +
+                          "] too; each component has a name of its own");
       if (registry.find(spec.type) == nullptr) {
         std::string known;
         for (const auto& t : registry.types()) known += (known.empty() ? "" : ", ") + t;
@@ -556,7 +561,8 @@ Result<std::unique_ptr<Launch>, Launch::Errors> Launch::from_string(const std::s
 Result<std::unique_ptr<Launch>, Launch::Errors> Launch::from_file(const std::string& path,
                                                                   const LaunchOptions& options) {
   const auto text = read_text_file(path);
-  if (!text) return make_unexpected(Errors{path + ": cannot open the launch file"});
+  if (!text)
+    return make_unexpected(Errors{path + ": cannot read the launch file: " + text.error()});
   return from_string(*text, path, options);
 }
 

@@ -1,7 +1,9 @@
 #include "executors/log.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
 namespace scancrew::log {
 
@@ -18,15 +20,37 @@ Level threshold() {
   return level;
 }
 
+std::string printable(std::string_view text) {
+  std::string out;
+  const size_t n = std::min(text.size(), kMaxMessageBytes);
+  out.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if ((c < 0x20 && c != '\n' && c != '\t') || c == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (text.size() > n) out += " ... (" + std::to_string(text.size() - n) + " bytes more)";
+  return out;
+}
+
 void write(Level level, const char* format, ...) {
   if (level > threshold()) return;
   static constexpr const char* kNames[] = {"error", "warn", "info", "debug"};
-  char message[1024];
   va_list args;
   va_start(args, format);
-  std::vsnprintf(message, sizeof(message), format, args);
+  va_list again;
+  va_copy(again, args);
+  const int length = std::vsnprintf(nullptr, 0, format, args);
   va_end(args);
-  std::fprintf(stderr, "[%s] %s\n", kNames[static_cast<int>(level)], message);
+  std::string message(length > 0 ? static_cast<size_t>(length) : 0, '\0');
+  if (length > 0) std::vsnprintf(message.data(), message.size() + 1, format, again);
+  va_end(again);
+  std::fprintf(stderr, "[%s] %s\n", kNames[static_cast<int>(level)], printable(message).c_str());
 }
 
 }  // namespace scancrew::log

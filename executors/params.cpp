@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <vector>
 
 #include "executors/params_impl.hpp"
 
@@ -15,21 +18,73 @@ std::string yaml_location(const std::string& file, const YAML::Node& node) {
   return file + ":" + std::to_string(node.Mark().line + 1);
 }
 
+namespace {
+
+// The first key a mapping under `node` holds twice ("file:line: duplicate key 'k' (first at
+// line n)"), or "". yaml-cpp keeps both entries and a lookup finds the first, so the second
+// was silently ignored. Depth-first, iterative (a hostile file may nest deeply). Each node
+// the text spells takes a byte of it at least, so a walk longer than the text is aliases
+// expanding (a "billion laughs" file), and refused.
+std::string duplicate_key(const YAML::Node& root, const std::string& label, size_t text_bytes) {
+  std::vector<YAML::Node> stack{root};
+  size_t visits = 0;
+  while (!stack.empty()) {
+    if (++visits > text_bytes + 16)
+      return label + ": its aliases expand to more nodes than it has bytes; refused";
+    const YAML::Node node = stack.back();
+    stack.pop_back();
+    if (node.IsSequence()) {
+      for (const auto& child : node) stack.push_back(child);
+    } else if (node.IsMap()) {
+      std::map<std::string, int> lines;
+      for (const auto& kv : node) {
+        if (kv.first.IsScalar()) {
+          const auto [it, fresh] = lines.emplace(kv.first.Scalar(), kv.first.Mark().line + 1);
+          if (!fresh)
+            return label + ":" + std::to_string(kv.first.Mark().line + 1) + ": duplicate key '" +
+                   kv.first.Scalar() + "' (first at line " + std::to_string(it->second) + ")";
+        }
+        stack.push_back(kv.second);
+      }
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
 Result<YAML::Node, std::string> parse_yaml(const std::string& text, const std::string& label) {
+  YAML::Node root;
   try {
-    return YAML::Load(text);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     return make_unexpected(label + ":" + std::to_string(e.mark.line + 1) +
                            ": not valid YAML: " + e.msg);
   }
+  if (std::string dup = duplicate_key(root, label, text.size()); !dup.empty())
+    return make_unexpected(dup);
+  return root;
 }
 
-std::optional<std::string> read_text_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+Result<std::string, std::string> read_text_file(const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) return make_unexpected(std::string("no such file"));
+  if (!std::filesystem::is_regular_file(status))
+    return make_unexpected(std::string("not a regular file (a device, a pipe or a directory)"));
+  const uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) return make_unexpected("cannot read its size: " + ec.message());
+  if (size > kMaxTextFileBytes)
+    return make_unexpected(std::to_string(size) + " bytes, over the " +
+                           std::to_string(kMaxTextFileBytes >> 20) + " MiB a text file may have");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return make_unexpected(std::string("cannot open it"));
+  std::string text;
+  text.resize(static_cast<size_t>(size));
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  // a file that shrank meanwhile keeps what was read
+  text.resize(static_cast<size_t>(in.gcount()));
+  return text;
 }
 
 std::string substitute(std::string text,

@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -31,8 +32,12 @@ std::string yaml_location(const std::string& file, const YAML::Node& node);
 
 // Parses YAML text; the error names the label (a file) and line.
 Result<YAML::Node, std::string> parse_yaml(const std::string& text, const std::string& label);
-// The whole file, or nothing when it cannot be read.
-std::optional<std::string> read_text_file(const std::string& path);
+// The largest text file read_text_file() reads (launch, scene, profile, calibration files and
+// run-directory JSON are kilobytes to a few megabytes).
+inline constexpr uintmax_t kMaxTextFileBytes = uintmax_t{64} << 20;
+// The whole file, or why not: it cannot be opened, is not a regular file (a device such as
+// /dev/zero, a pipe, a directory) or is over kMaxTextFileBytes.
+Result<std::string, std::string> read_text_file(const std::string& path);
 
 ParamReader make_param_reader(const YAML::Node& node, const std::string& file,
                               const std::string& path,

@@ -77,13 +77,19 @@ void draw_axes(cv::Mat& img, const Panel& p, const std::string& y_label, bool x_
                         st.thickness(1.4));
 }
 
+// no mission lasts this long (317 years): beyond it a file is corrupt or hostile
+constexpr double kMaxTimeS = 1e10;
+
 std::string check_inputs(const std::vector<CoverageSample>& samples, const PlotOptions& options) {
   if (options.long_side_px < 200 || options.long_side_px > 20000)
     return "long_side_px " + std::to_string(options.long_side_px) + " not in [200, 20000]";
-  for (size_t i = 0; i < samples.size(); ++i)
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const std::string which =
+        "coverage sample " + std::to_string(i) + " (robot " + std::to_string(samples[i].robot_id);
     if (!std::isfinite(samples[i].t_s) || !std::isfinite(samples[i].coverage))
-      return "coverage sample " + std::to_string(i) + " (robot " +
-             std::to_string(samples[i].robot_id) + ") is not finite";
+      return which + ") is not finite";
+    if (std::abs(samples[i].t_s) > kMaxTimeS) return which + "): time beyond ±1e10 s";
+  }
   return {};
 }
 

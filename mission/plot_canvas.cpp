@@ -88,17 +88,30 @@ double nice_floor(double x) {
 }
 
 std::vector<double> ticks(double lo, double hi, int target, double* step, double min_step) {
-  const double raw = (hi - lo) / std::max(1, target);
+  *step = std::max(1.0, min_step);
+  // a range with no width, or not finite, has no steps: its one value
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi > lo)) return {std::isfinite(lo) ? lo : 0.0};
+  const double n = std::max(1, target);
+  const double raw = hi / n - lo / n;  // not (hi - lo) / n: that overflows at ±1e308
+  if (!(raw > 0)) return {lo};         // the width underflowed
   const double p = std::pow(10.0, std::floor(std::log10(raw)));
   // the nice step nearest to raw (by ratio)
   double s = p;
   for (const double m : {2.0, 5.0, 10.0})
     if (std::abs(std::log(m * p / raw)) < std::abs(std::log(s / raw))) s = m * p;
+  if (!(s > 0) || !std::isfinite(s)) return {lo};
   s = std::max(s, min_step);
   *step = s;
+  // by index, not by adding s to v: at lo = 1e9 and a width of one ulp, v + s == v (the
+  // report of such a coverage.csv looped until it ran out of memory)
+  const double first = std::ceil(lo / s - 1e-9), last = std::floor(hi / s + 1e-9);
+  constexpr int kMaxTicks = 1000;
   std::vector<double> values;
-  for (double v = std::ceil(lo / s - 1e-9) * s; v <= hi + s * 1e-9; v += s)
+  for (int i = 0; i < kMaxTicks && first + i <= last; ++i) {
+    const double v = (first + i) * s;
+    if (!values.empty() && v <= values.back()) break;  // k past the doubles' resolution
     values.push_back(std::abs(v) < s * 1e-9 ? 0.0 : v);
+  }
   return values;
 }
 

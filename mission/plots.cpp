@@ -22,6 +22,9 @@ constexpr double kLeftMargin = 30, kRightColumn = 190, kTitleBand = 60, kBottomB
 constexpr double kMinAspect = 0.6;     // the plot's short side is at least this share of its long
 constexpr double kDataPadding = 0.04;  // share of the data extent added on each side
 constexpr double kMinExtentM = 1;      // a single point still gets a 1 m wide view
+// no place a team maps is this far out: beyond it a file is corrupt or hostile (at ±1e308 the
+// extent overflowed to inf and the pixel sizes became NaN)
+constexpr double kMaxCoordinateM = 1e7;
 constexpr uint8_t kLowGrey = 222, kHighGrey = 60;  // mesh grey ramp, lowest to highest z
 constexpr double kDownFacing = 0.5;  // faces whose normal is > 60° below the horizon are hidden
 
@@ -67,12 +70,19 @@ std::string check_inputs(const sim::TriangleMesh& mesh, const std::vector<PathSa
       const msg::Vec3& p = mesh.vertices[v];
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
         return "mesh vertex " + std::to_string(v) + " is not finite";
+      if (std::abs(p.x) > kMaxCoordinateM || std::abs(p.y) > kMaxCoordinateM ||
+          std::abs(p.z) > kMaxCoordinateM)
+        return "mesh vertex " + std::to_string(v) + " lies beyond ±1e7 m";
     }
-  for (size_t i = 0; i < paths.size(); ++i)
+  for (size_t i = 0; i < paths.size(); ++i) {
     if (!std::isfinite(paths[i].t_s) || !std::isfinite(paths[i].x_m) ||
         !std::isfinite(paths[i].y_m))
       return "path sample " + std::to_string(i) + " (robot " + std::to_string(paths[i].robot_id) +
              ") is not finite";
+    if (std::abs(paths[i].x_m) > kMaxCoordinateM || std::abs(paths[i].y_m) > kMaxCoordinateM)
+      return "path sample " + std::to_string(i) + " (robot " + std::to_string(paths[i].robot_id) +
+             ") lies beyond ±1e7 m";
+  }
   return {};
 }
 

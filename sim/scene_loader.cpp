@@ -242,7 +242,8 @@ Result<SceneSpec, std::vector<std::string>> parse_scene(const std::string& yaml_
 Result<SceneSpec, std::vector<std::string>> load_scene(const std::string& path) {
   const auto text = read_text_file(path);
   if (!text)
-    return make_unexpected(std::vector<std::string>{path + ": cannot open the scene file"});
+    return make_unexpected(
+        std::vector<std::string>{path + ": cannot read the scene file: " + text.error()});
   return parse_scene(*text, path, std::filesystem::path(path).parent_path().string());
 }
 

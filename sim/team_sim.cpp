@@ -282,13 +282,16 @@ void TeamSim::step_until(int64_t t_ns) {
       const double yaw = d->qpos[ids.qpos_yaw];
       const double c = std::cos(yaw), s = std::sin(yaw);
       const double vmax = impl_->max_speed_factor * r.nominal_speed_mps;
-      const auto clamp = [vmax](double v) { return std::clamp(v, -vmax, vmax); };
-      const double vx = clamp(ids.command.linear_mps.x);
-      const double vy = r.kind == RobotKind::kGround ? 0.0 : clamp(ids.command.linear_mps.y);
+      // a non-finite command stops the axis (NaN passes std::clamp, and MuJoCo's state with it)
+      const auto clamp = [](double v, double limit) {
+        return std::isfinite(v) ? std::clamp(v, -limit, limit) : 0.0;
+      };
+      const double vx = clamp(ids.command.linear_mps.x, vmax);
+      const double vy = r.kind == RobotKind::kGround ? 0.0 : clamp(ids.command.linear_mps.y, vmax);
       d->ctrl[ids.act_x] = c * vx - s * vy;
       d->ctrl[ids.act_y] = s * vx + c * vy;
-      if (ids.act_z >= 0) d->ctrl[ids.act_z] = clamp(ids.command.linear_mps.z);
-      d->ctrl[ids.act_yaw] = std::clamp(ids.command.yaw_rate_radps, -2.0, 2.0);
+      if (ids.act_z >= 0) d->ctrl[ids.act_z] = clamp(ids.command.linear_mps.z, vmax);
+      d->ctrl[ids.act_yaw] = clamp(ids.command.yaw_rate_radps, 2.0);
     }
     mj_step(m, d);
     impl_->count_contacts(contacts_, robots_);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "executors/log.hpp"
 #include "executors/registry.hpp"
 #include "interfaces/eigen_conversions.hpp"
 
@@ -50,6 +51,25 @@ Result<void, std::string> DepthMask::on_configure() {
 
 void DepthMask::on_depth(Sample<msg::DepthImage>&& depth) {
   ++frames_;
+  // the pixels are indexed by the intrinsics: an image whose depth_m is not width x height
+  // (a recording's, a DDS import's) would be read and written past its end. Dropped, as the
+  // mapper drops it; a camera that cannot project is dropped too.
+  const msg::CameraIntrinsics& in = depth->intrinsics;
+  const char* problem = nullptr;
+  if (depth->depth_m.size() != size_t{in.width} * in.height)
+    problem = "depth_m does not hold width x height pixels";
+  else if (!(std::isfinite(in.fx) && std::isfinite(in.fy) && std::isfinite(in.cx) &&
+             std::isfinite(in.cy) && in.fx > 0 && in.fy > 0))
+    problem = "intrinsics not finite or focal lengths not positive";
+  if (problem != nullptr) {
+    if (refused_++ == 0)
+      SCANCREW_LOG_WARN(
+          "%s: depth image at t = %.3f s dropped: %s (%zu values, %u x %u; further "
+          "ones are counted)",
+          qualified_name().c_str(), static_cast<double>(depth->header.stamp_ns) * 1e-9, problem,
+          depth->depth_m.size(), in.width, in.height);
+    return;
+  }
   auto loan = out_.loan();
   if (!loan) return;  // counted by the topic
   msg::DepthImage& out = **loan;

@@ -39,6 +39,8 @@ class DepthMask final : public Component {
 
   uint64_t frames() const { return frames_; }
   uint64_t masked_pixels() const { return masked_; }
+  // images dropped because their pixels do not match their intrinsics (logged once)
+  uint64_t refused_frames() const { return refused_; }
 
  private:
   struct Teammate {
@@ -55,7 +57,7 @@ class DepthMask final : public Component {
   Config config_;
   std::vector<Teammate> teammates_;
   Publisher<msg::DepthImage> out_;
-  uint64_t frames_ = 0, masked_ = 0;
+  uint64_t frames_ = 0, masked_ = 0, refused_ = 0;
 };
 
 }  // namespace scancrew::perception

@@ -226,6 +226,16 @@ void HardwareBackend::forward(const msg::VelocityCommand& command) {
     ++stats_.commands_without_base;
     return;
   }
+  // a non-finite command (a NaN pose upstream, a forged message) never reaches the motors
+  if (!std::isfinite(command.linear_mps.x) || !std::isfinite(command.linear_mps.y) ||
+      !std::isfinite(command.linear_mps.z) || !std::isfinite(command.yaw_rate_radps)) {
+    if (stats_.commands_not_finite++ == 0)
+      SCANCREW_LOG_ERROR(
+          "%s: a velocity command that is not finite was dropped; further ones "
+          "are counted",
+          qualified_name().c_str());
+    return;
+  }
   auto sent = base_.send(robot_id(), command.header.stamp_ns, command.linear_mps.x,
                          command.linear_mps.y, command.linear_mps.z, command.yaw_rate_radps);
   if (sent) {
@@ -262,7 +272,7 @@ void HardwareBackend::on_shutdown() {
       "%s: %llu frames published; dropped: %llu grab failed, %llu left/right size mismatch, "
       "%llu calibration size mismatch, %llu unsupported format, %llu no buffer; IMU: %llu "
       "published, %llu malformed lines, %llu overlong, %llu read errors; base: %llu commands "
-      "sent, %llu send errors, %llu without a base",
+      "sent, %llu send errors, %llu without a base, %llu not finite (dropped)",
       qualified_name().c_str(), static_cast<unsigned long long>(s.frames_published),
       dropped(FrameStatus::kGrabFailed), dropped(FrameStatus::kSizeMismatch),
       dropped(FrameStatus::kCalibrationSizeMismatch), dropped(FrameStatus::kUnsupportedFormat),
@@ -273,7 +283,8 @@ void HardwareBackend::on_shutdown() {
       static_cast<unsigned long long>(s.imu_read_errors),
       static_cast<unsigned long long>(s.commands_sent),
       static_cast<unsigned long long>(s.command_send_errors),
-      static_cast<unsigned long long>(s.commands_without_base));
+      static_cast<unsigned long long>(s.commands_without_base),
+      static_cast<unsigned long long>(s.commands_not_finite));
 }
 
 SCANCREW_REGISTER_COMPONENT(HardwareBackend, "hardware_backend")

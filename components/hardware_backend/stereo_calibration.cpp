@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <initializer_list>
 
 #include "executors/params_impl.hpp"
@@ -234,12 +233,9 @@ Result<StereoCalibration, CalibrationErrors> parse_stereo_calibration(const std:
 
 Result<StereoCalibration, CalibrationErrors> load_stereo_calibration(const std::string& path) {
   const auto text = read_text_file(path);
-  if (!text) {
-    std::error_code ec;
-    const bool exists = std::filesystem::exists(path, ec);
-    return make_unexpected(CalibrationErrors{path + ": cannot open the calibration file (" +
-                                             (exists ? "not readable" : "no such file") + ")"});
-  }
+  if (!text)
+    return make_unexpected(
+        CalibrationErrors{path + ": cannot read the calibration file (" + text.error() + ")"});
   return parse_stereo_calibration(*text, path);
 }
 

@@ -64,7 +64,9 @@ bool StereoDepth::valid(const msg::StereoFrame& f) {
   };
   if (f.left.empty() || f.right.empty()) return once(stats_.empty, "empty image");
   if (f.left.size() != f.right.size()) return once(stats_.size_mismatch, "left/right sizes differ");
-  if (n != f.left.size() || !(f.intrinsics.fx > 0) || !(f.baseline_m > 0))
+  // finite too: an infinite focal length made the automatic disparity count infinite
+  if (n != f.left.size() || !(f.intrinsics.fx > 0) || !(f.baseline_m > 0) ||
+      !std::isfinite(f.intrinsics.fx) || !std::isfinite(f.baseline_m))
     return once(stats_.intrinsics_mismatch,
                 "the camera model does not match the image (size, focal length or baseline)");
   return true;

@@ -1,5 +1,6 @@
 #include "components/stereo/stereo_matcher.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <opencv2/calib3d.hpp>
@@ -27,7 +28,10 @@ StereoMatcher::~StereoMatcher() = default;
 uint32_t StereoMatcher::num_disparities(double fx_px, double baseline_m) const {
   if (impl_->params.num_disparities != 0) return impl_->params.num_disparities;
   // the largest disparity, at the camera's minimum range, rounded up to a multiple of 16
-  const double d_max = fx_px * baseline_m / impl_->min_range_m;
+  // at most kMaxAutoDisparities (what num_disparities may be set to): a camera model from a
+  // recording or a link asked for millions, which OpenCV then allocates per pixel
+  const double d_max = std::min(fx_px * baseline_m / impl_->min_range_m, kMaxAutoDisparities);
+  if (!(d_max > 0)) return 16;
   return static_cast<uint32_t>(std::ceil(d_max / 16.0)) * 16;
 }
 

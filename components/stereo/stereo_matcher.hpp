@@ -23,8 +23,10 @@ class StereoMatcher {
   void compute(const uint8_t* left, const uint8_t* right, uint32_t width, uint32_t height,
                double fx_px, double baseline_m, std::vector<float>& depth);
 
-  // The disparity search range used for this focal length and baseline.
+  // The disparity search range used for this focal length and baseline (automatic: at most
+  // kMaxAutoDisparities).
   uint32_t num_disparities(double fx_px, double baseline_m) const;
+  static constexpr double kMaxAutoDisparities = 1024;  // num_disparities' configured maximum
 
  private:
   struct Impl;

@@ -28,6 +28,10 @@ bool bad_depth(float d) {
 }
 
 constexpr float kBeyondRange = std::numeric_limits<float>::infinity();
+// A pinhole depth camera's half field of view has a tangent below this (169 deg across).
+constexpr double kMaxHalfFovTan = 10;
+// Maps are of places: no camera is this far from the map's origin.
+constexpr double kMaxCameraDistanceM = 1e6;
 
 // Everything but the pixels.
 std::string check_header(const DepthFrame& f) {
@@ -38,7 +42,16 @@ std::string check_header(const DepthFrame& f) {
   if (!(std::isfinite(f.fx) && f.fx > 0 && std::isfinite(f.fy) && f.fy > 0 && std::isfinite(f.cx) &&
         std::isfinite(f.cy)))
     return "intrinsics not finite and positive";
+  // the frustum's box is what is allocated (a block bitmap): a focal length of 1e-3 px asked
+  // for 1e14 bytes, a camera at 1e12 m overflowed the block indices
+  if (f.cx < 0 || f.cx > f.width || f.cy < 0 || f.cy > f.height)
+    return "principal point outside the image";
+  if (std::max(f.cx, f.width - f.cx) > kMaxHalfFovTan * f.fx ||
+      std::max(f.cy, f.height - f.cy) > kMaxHalfFovTan * f.fy)
+    return "focal length too short: a field of view over 2 atan(10) = 169 deg";
   if (!rigid(f.T_world_cam)) return "camera pose is not a rigid transform";
+  if (f.T_world_cam.translation().cwiseAbs().maxCoeff() > kMaxCameraDistanceM)
+    return "camera more than 1000 km from the map's origin";
   return {};
 }
 

@@ -152,6 +152,25 @@ TEST(PlyMesh, RefusesBadFaces) {
   expect_error(write_file("count.ply", head + "4000000000 0 1 2\n"), "element 'face', item 0 of 1");
 }
 
+// Counts come from the file, so the work they ask for is bounded by its bytes: an element
+// without properties (no data) and a count of 2^62 looped for centuries in a 300-byte file.
+TEST(PlyMesh, CountsAreBoundedByTheFilesBytes) {
+  const std::string mesh =
+      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const auto empty = read_ply_mesh(write_file(
+      "empty_element.ply", "ply\nformat ascii 1.0\nelement nothing 4611686018427387904\n" + mesh));
+  ASSERT_TRUE(empty) << empty.error();
+  EXPECT_EQ(empty->triangles.size(), 1U);
+  expect_error(write_file("many.ply",
+                          "ply\nformat ascii 1.0\nelement vertex 4611686018427387904\n"
+                          "property float x\nproperty float y\nproperty float z\n"
+                          "element face 0\nproperty list uchar int vertex_indices\n"
+                          "end_header\n0 0 0\n"),
+               "element 'vertex' counts 4611686018427387904 items, more than the 6 bytes left");
+}
+
 TEST(PlyMesh, RefusesAnUnknownFormatOrType) {
   expect_error(write_file("format.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n"),
                "header line 2 'format binary_middle_endian 1.0': unknown format");

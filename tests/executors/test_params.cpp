@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "executors/params.hpp"
+#include "executors/params_impl.hpp"
 
 namespace scancrew {
 namespace {
@@ -105,6 +109,48 @@ TEST(ParamReader, InvalidYamlIsAnError) {
   auto r = ParamReader::from_yaml_string("a: [1, 2\n", "cfg.yaml");
   EXPECT_FALSE(r.ok());
   EXPECT_TRUE(has_error(r, "not valid YAML"));
+}
+
+// A key twice in one mapping was silently ignored (yaml-cpp keeps both, a lookup finds the
+// first); aliases that expand past the text's size are refused before anyone walks them.
+TEST(ParseYaml, RefusesDuplicateKeysAndAliasBombs) {
+  auto dup = parse_yaml("a: 1\nb:\n  c: 2\n  c: 3\n", "d.yaml");
+  ASSERT_FALSE(dup);
+  EXPECT_EQ(dup.error(), "d.yaml:4: duplicate key 'c' (first at line 3)");
+  EXPECT_TRUE(
+      has_error(ParamReader::from_yaml_string("x: 1\nx: 2\n", "p.yaml"), "duplicate key 'x'"));
+  std::string bomb = "a0: &a0 [x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i < 12; ++i)
+    bomb += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [*a" + std::to_string(i - 1) +
+            ", *a" + std::to_string(i - 1) + ", *a" + std::to_string(i - 1) + ", *a" +
+            std::to_string(i - 1) + "]\n";
+  auto laughs = parse_yaml(bomb, "bomb.yaml");  // 8 x 4^11 = 33 M nodes from 0.5 KB
+  ASSERT_FALSE(laughs);
+  EXPECT_NE(laughs.error().find("aliases expand"), std::string::npos) << laughs.error();
+  EXPECT_TRUE(parse_yaml("a: &x {b: 1}\nc: *x\n", "ok.yaml"));  // an alias is fine
+}
+
+// Text files are read whole, so what is read is bounded: a device (/dev/zero never ends), a
+// directory and a file over kMaxTextFileBytes are refused with the reason, before reading.
+TEST(ReadTextFile, RefusesDevicesDirectoriesAndHugeFiles) {
+  const auto dir = std::filesystem::path(::testing::TempDir()) / "read_text_file";
+  std::filesystem::create_directories(dir);
+  const auto small = dir / "small.yaml";
+  std::ofstream(small) << "a: 1\n";
+  const auto text = read_text_file(small.string());
+  ASSERT_TRUE(text) << text.error();
+  EXPECT_EQ(*text, "a: 1\n");
+
+  EXPECT_NE(read_text_file((dir / "missing.yaml").string()).error().find("no such file"),
+            std::string::npos);
+  EXPECT_NE(read_text_file("/dev/zero").error().find("not a regular file"), std::string::npos);
+  EXPECT_NE(read_text_file(dir.string()).error().find("not a regular file"), std::string::npos);
+  const auto huge = dir / "huge.yaml";  // sparse: no disk used
+  std::ofstream(huge).close();
+  std::filesystem::resize_file(huge, kMaxTextFileBytes + 1);
+  EXPECT_NE(read_text_file(huge.string()).error().find("MiB a text file may have"),
+            std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

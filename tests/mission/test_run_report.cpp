@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/core.hpp>
@@ -306,6 +307,36 @@ TEST(Plots, SingleSamplesAndFlatMeshesAreDrawn) {
                                                  {.t_s = 0, .robot_id = 2, .coverage = 1}};
   ASSERT_TRUE(write_coverage_png(same_time, dir.file("cov.png"), {.long_side_px = 200}));
   EXPECT_EQ(cv::imread(dir.file("cov.png")).cols, 200);
+}
+
+// Hostile run files (Step 12's review): two times one ulp apart looped the time axis's ticks
+// until memory ran out; coordinates at ±1e308 threw cv::Exception out of the report.
+TEST(Plots, ExtremeValuesAreDrawnOrRefusedNotHung) {
+  TempDir dir;
+  const double t = 1e9;
+  const std::vector<CoverageSample> ulp = {
+      {.t_s = t, .robot_id = 1, .coverage = 0.5},
+      {.t_s = std::nextafter(t, 2 * t), .robot_id = 1, .coverage = 0.6}};
+  EXPECT_TRUE(write_coverage_png(ulp, dir.file("ulp.png"), {.long_side_px = 300}));
+  const std::vector<CoverageSample> huge = {{.t_s = -1e308, .robot_id = 1, .coverage = 0},
+                                            {.t_s = 1e308, .robot_id = 1, .coverage = 1}};
+  const auto huge_t = write_coverage_png(huge, dir.file("huge_t.png"), {.long_side_px = 300});
+  ASSERT_FALSE(huge_t);
+  EXPECT_NE(huge_t.error().find("huge_t.png': coverage sample 0 (robot 1): time beyond"),
+            std::string::npos)
+      << huge_t.error();
+  const std::vector<PathSample> far = {{.t_s = 0, .robot_id = 1, .x_m = -1e308, .y_m = 0},
+                                       {.t_s = 1, .robot_id = 1, .x_m = 1e308, .y_m = 1e308}};
+  const auto top = write_top_view_png(floor_and_block(), far, dir.file("far.png"));
+  ASSERT_FALSE(top);
+  EXPECT_NE(top.error().find("far.png': path sample 0 (robot 1) lies beyond"), std::string::npos)
+      << top.error();
+  sim::TriangleMesh wide = floor_and_block();
+  wide.vertices.push_back({1e308, -1e308, 0});
+  wide.triangles.push_back({0, 1, static_cast<uint32_t>(wide.vertices.size() - 1)});
+  const auto mesh = write_top_view_png(wide, {}, dir.file("wide.png"));
+  ASSERT_FALSE(mesh);
+  EXPECT_NE(mesh.error().find("lies beyond ±1e7 m"), std::string::npos) << mesh.error();
 }
 
 TEST(Plots, BadInputsAndOutputsAreErrorsNamingThem) {

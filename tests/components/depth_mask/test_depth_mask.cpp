@@ -100,5 +100,77 @@ components:
   EXPECT_EQ(out.header.robot_id, 1u);
 }
 
+// Publishes each robot's pose and a depth image whose depth_m is shorter than its
+// intrinsics say (a recording's or a DDS import's), every 50 ms of sim time.
+class ShortDepth final : public Component {
+ public:
+  static constexpr std::string_view kDescription = "test: poses and short depth images";
+  struct Config {};
+  static Config read_config(ParamReader& /*p*/) { return {}; }
+  ShortDepth(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
+
+ private:
+  Result<void, std::string> on_configure() override {
+    pose_ = create_publisher<msg::Odometry>("pose_gt", {.pool_size = 2});
+    depth_ = create_publisher<msg::DepthImage>("depth", {.pool_size = 2});
+    create_timer(std::chrono::milliseconds(50), [this] {
+      const int64_t now = clock().now_ns();
+      if (auto pose = pose_.loan()) {
+        **pose = msg::Odometry{};
+        (*pose)->header.stamp_ns = now;
+        (*pose)->T_world_body.position = {2.0 * robot_id(), 0, 0};
+        (void)pose_.publish(std::move(*pose));
+      }
+      if (auto depth = depth_.loan()) {
+        msg::DepthImage& d = **depth;
+        d = msg::DepthImage{};
+        d.header.stamp_ns = now;
+        d.intrinsics = {.width = 640, .height = 480, .fx = 300, .fy = 300, .cx = 320, .cy = 240};
+        d.T_world_cam.position = {2.0 * robot_id(), 0, 0};
+        d.depth_m.assign(10, 2.0F);  // not 640 x 480
+        (void)depth_.publish(std::move(*depth));
+      }
+    });
+    return {};
+  }
+  Publisher<msg::Odometry> pose_;
+  Publisher<msg::DepthImage> depth_;
+};
+SCANCREW_REGISTER_COMPONENT(ShortDepth, "test_short_depth")
+
+// Step 12's review: the mask indexed depth_m by the intrinsics and wrote past its end (a
+// segfault) when a teammate's pose was fresh. It drops such an image and counts it.
+TEST(DepthMask, DropsAnImageWhosePixelsDoNotMatchItsIntrinsics) {
+  auto launch = Launch::from_string(R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: 0.5, sim_step_s: 0.05}
+robots:
+  - {id: 1, namespace: r1, kind: ground, start: [0, 0, 0, 0]}
+  - {id: 2, namespace: r2, kind: ground, start: [2, 0, 0, 0]}
+components:
+  - {name: feed, type: test_short_depth}
+  - {name: mask, type: depth_mask, params: {margin_m: 0.1}}
+  - {name: pairs, type: test_mask_pairs}
+)",
+                                    "short.yaml");
+  ASSERT_TRUE(launch) << launch.error().front();
+  (*launch)->run();
+  size_t masks = 0;
+  for (const auto& c : (*launch)->components()) {
+    if (auto* m = dynamic_cast<DepthMask*>(c.get())) {
+      ++masks;
+      EXPECT_GT(m->frames(), 3U);
+      EXPECT_EQ(m->refused_frames(), m->frames());
+      EXPECT_EQ(m->masked_pixels(), 0U);
+    }
+    if (auto* p = dynamic_cast<MaskPairs*>(c.get())) {
+      EXPECT_FALSE(p->in.empty());
+      EXPECT_TRUE(p->out.empty()) << "a refused image was passed on";
+    }
+  }
+  EXPECT_EQ(masks, 2U);
+}
+
 }  // namespace
 }  // namespace scancrew::perception

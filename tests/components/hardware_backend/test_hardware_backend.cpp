@@ -401,7 +401,7 @@ TEST_F(HardwareBackendTest, NamesTheCalibrationProblem) {
   std::filesystem::remove(dir_.file("stereo.yaml"));
   const std::string missing = composition_error(camera_params());
   EXPECT_NE(missing.find("calibration: " + dir_.file("stereo.yaml") +
-                         ": cannot open the calibration file (no such file)"),
+                         ": cannot read the calibration file (no such file)"),
             std::string::npos)
       << missing;
 
@@ -554,9 +554,16 @@ TEST_F(HardwareBackendTest, SendsEachVelocityCommandAsOneDatagramAndAStopOnDeact
   EXPECT_EQ(d2.yaw_rate_radps, -0.7);
   EXPECT_EQ(stop2.seq, 4u);
   EXPECT_FALSE(base.receive(0ms)) << "one datagram per command";
+  command(std::nan(""), 0, 0, 0, 555);  // dropped: it never reaches the motors
+  run.launch->run();
+  const hardware::VelocityDatagram stop3 = next();
+  EXPECT_EQ(stop3.seq, 5u);
+  EXPECT_EQ(stop3.vx_mps, 0.0);
+  EXPECT_FALSE(base.receive(0ms)) << "the NaN command was sent";
   const auto stats = run.backend->stats();
   EXPECT_EQ(stats.commands_sent, 2u);
-  EXPECT_EQ(stats.stop_commands_sent, 2u);
+  EXPECT_EQ(stats.commands_not_finite, 1u);
+  EXPECT_EQ(stats.stop_commands_sent, 3u);
   EXPECT_EQ(stats.command_send_errors, 0u);
 }
 

@@ -346,6 +346,19 @@ std::string scene_path(const std::string& name) {
   return root + "/tests/components/low_level/scenes/" + name;
 }
 
+// The scenarios' low-level parameters: these defaults, each unless `params` ("key: value, ...")
+// sets it (a key twice in one mapping is an error).
+std::string low_level_with_defaults(const std::string& params) {
+  std::string all = params;
+  for (const char* d :
+       {"unknown_is_occupied: false", "planner_time_limit_s: 1.0", "planner_seed: 1"}) {
+    const std::string key = std::string(d).substr(0, std::string(d).find(':') + 1);
+    if (params.find(key) == std::string::npos)
+      all = std::string(d) + (all.empty() ? "" : ", ") + all;
+  }
+  return all;
+}
+
 // low_level_params: more "key: value" pairs for the low-level planners (", "-separated)
 std::string launch_text(const std::string& scene, const std::vector<RobotSetup>& robots,
                         double duration_s, const std::string& low_level_params) {
@@ -380,8 +393,8 @@ std::string launch_text(const std::string& scene, const std::vector<RobotSetup>&
              max_range_m: 5.0, snapshot_every: 5}
   - name: low_level
     type: low_level_planner
-    params: {unknown_is_occupied: false, planner_time_limit_s: 1.0, planner_seed: 1)" +
-         (low_level_params.empty() ? "" : ", " + low_level_params) + R"(}
+    params: {)" +
+         low_level_with_defaults(low_level_params) + R"(}
   - name: tracker
     type: path_tracker
     params: {pose_source: ground_truth, ground_max_speed_mps: 0.5}

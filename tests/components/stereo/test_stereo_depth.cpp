@@ -8,6 +8,7 @@
 
 #include "components/stereo/depth_error.hpp"
 #include "components/stereo/stereo_depth.hpp"
+#include "components/stereo/stereo_matcher.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 
@@ -176,6 +177,15 @@ components:
   EXPECT_EQ(s.pose_lost, 1u);
   EXPECT_EQ(s.no_pose, 1u);
   EXPECT_EQ(s.published, 4u);  // frames 7 to 10
+}
+
+// The automatic disparity range comes from the frame's camera model, so it is bounded:
+// a focal length of 1e12 px (a forged frame) asked for 1e11 disparities.
+TEST(StereoMatcher, TheAutomaticDisparityRangeIsBounded) {
+  const StereoMatcher matcher(SgbmParams{.num_disparities = 0}, 0.3, 5.0);
+  EXPECT_EQ(matcher.num_disparities(320, 0.1), 112U);  // 320 x 0.1 / 0.3 = 106.7 -> 112
+  EXPECT_EQ(matcher.num_disparities(1e12, 0.1), 1024U);
+  EXPECT_EQ(matcher.num_disparities(std::nan(""), 0.1), 16U);
 }
 
 TEST(StereoDepth, BadParametersAreErrors) {

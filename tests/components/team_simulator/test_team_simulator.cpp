@@ -142,8 +142,16 @@ TEST(TeamSimulator, RefusesAWallClockAndABadScene) {
 
   launch = Launch::from_string(launch_text("/nonexistent/scene.yaml"), "bad.yaml");
   ASSERT_FALSE(launch);
-  EXPECT_NE(launch.error().front().find("cannot open the scene file"), std::string::npos)
+  EXPECT_NE(launch.error().front().find("cannot read the scene file: no such file"),
+            std::string::npos)
       << launch.error().front();
+  // a device is refused before it is read (/dev/zero never ends: it was read to bad_alloc)
+  for (const char* device : {"/dev/zero", "/dev/urandom"}) {
+    launch = Launch::from_string(launch_text(device), "bad.yaml");
+    ASSERT_FALSE(launch) << device;
+    EXPECT_NE(launch.error().front().find("not a regular file"), std::string::npos)
+        << launch.error().front();
+  }
 }
 
 TEST(TeamSimulator, RefusesARobotStartingInsideAnObstacle) {

@@ -227,6 +227,21 @@ TEST(Integrator, BadFramesAreRefusedAndTheMapIsUnchanged) {
   DepthFrame bad_k = frame(d, looking_along_x({0, 0, 0}));
   bad_k.fx = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(integrator.integrate(map, bad_k));
+  // what the frustum's box would be made of is bounded (Step 12's review: fx 1e-3 px asked
+  // for 1e14 bytes)
+  DepthFrame wide = frame(d, looking_along_x({0, 0, 0}));
+  wide.fx = wide.fy = 1e-3;
+  r = integrator.integrate(map, wide);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("focal length too short"), std::string::npos) << r.error();
+  DepthFrame off_centre = frame(d, looking_along_x({0, 0, 0}));
+  off_centre.cx = -1e9;
+  r = integrator.integrate(map, off_centre);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error(), "principal point outside the image");
+  r = integrator.integrate(map, frame(d, looking_along_x({1e12, 0, 0})));
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error(), "camera more than 1000 km from the map's origin");
 
   EXPECT_EQ(map.sequence(), sequence);
   EXPECT_EQ(map.block_count(), before->block_count());
