@@ -13,6 +13,7 @@
 
 #include "cli/child_process.hpp"
 #include "cli/explore_table.hpp"
+#include "cli/explore_targets.hpp"
 #include "cli/mission_compose.hpp"
 #include "cli/thesis_table.hpp"
 #include "executors/params_impl.hpp"
@@ -186,6 +187,25 @@ std::string machine_line() {
   return std::to_string(std::thread::hardware_concurrency()) + " cores (" + host + ")";
 }
 
+// The planning map's voxel of a robot kind: its profile's mapper.voxel_m (the missions are
+// composed from it), else the thesis's (0.1 m as our ground missions, 0.3 m).
+TargetVoxels profile_voxels() {
+  TargetVoxels v;
+  for (auto [kind, voxel] : {std::pair<const char*, double*>{"ground", &v.ground_m},
+                             std::pair<const char*, double*>{"multirotor", &v.multirotor_m}}) {
+    const auto text = read_text_file(std::string("launch_cfg/profiles/") + kind + ".yaml");
+    if (!text) continue;
+    const auto root = parse_yaml(*text, kind);
+    if (!root || !root->IsMap()) continue;
+    const YAML::Node value = (*root)["mapper"]["voxel_m"];
+    try {
+      if (value.IsDefined() && value.IsScalar()) *voxel = value.as<double>();
+    } catch (const YAML::Exception&) {  // not a number: the composed missions refuse it anyway
+    }
+  }
+  return v;
+}
+
 }  // namespace
 
 int run_explore_bench(const ExploreOptions& o) {
@@ -250,7 +270,9 @@ int run_explore_bench(const ExploreOptions& o) {
   // the family table, and (the thesis's scenes are in the full set only) the thesis's rows
   const auto markdown = [&] {
     return format_explore_markdown(runs, title, command, machine_line()) +
-           (o.quick ? "" : "\n" + format_thesis_markdown(runs));
+           (o.quick ? ""
+                    : "\n" + format_targets_markdown(explore_targets(runs, profile_voxels())) +
+                          "\n" + format_thesis_markdown(runs));
   };
   const auto write_tables = [&] {
     std::ofstream(out / "explore.csv") << format_explore_csv(runs);

@@ -15,8 +15,9 @@
 // and distributed) on the indoor budget, one multirotor on a short one; it fails (exit 1)
 // when a run failed or wrote inconsistent metrics (check_explore_run), or a ground run did
 // not complete, stayed under 95 % of the reachable surface or touched something.
-// Writes OUT/explore.md and OUT/explore.csv after every run; --json prints every run and
-// the summary rows. --only: a subset of the runs (an A/B on some rows).
+// Writes OUT/explore.md (the family table; the full set adds Step 11's targets, met or not,
+// cli/explore_targets.hpp, and the thesis's rows, cli/thesis_table.hpp) and OUT/explore.csv
+// after every run; --json prints every run and the summary rows. --only: a subset of the runs (an A/B on some rows).
 
 #include <cstddef>
 #include <string>
