@@ -1,9 +1,11 @@
 #include "components/recorder/log_file.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <system_error>
 
+#include "executors/log.hpp"
 #include "interfaces/message_fields.hpp"
 
 namespace scancrew::recorder {
@@ -166,6 +168,26 @@ Result<std::optional<uint8_t>, std::string> LogReader::read_record(bool want_pay
   return std::optional<uint8_t>{kind};
 }
 
+namespace {
+
+// A topic name as the graph makes them: "/" then segments of letters, digits and '_' joined
+// by "/", at most 256 bytes. A recording's names are echoed and become topics: anything
+// else (control bytes, empty segments) is a corrupt or hostile file.
+bool valid_topic_name(const std::string& name) {
+  if (name.size() < 2 || name.size() > 256 || name.front() != '/' || name.back() == '/')
+    return false;
+  char previous = '/';
+  for (size_t i = 1; i < name.size(); ++i) {
+    const char c = name[i];
+    if (c == '/' ? previous == '/' : !(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
+      return false;
+    previous = c;
+  }
+  return true;
+}
+
+}  // namespace
+
 Result<void, std::string> LogReader::take_topic() {
   size_t at = 0;
   uint16_t index = 0;
@@ -174,6 +196,10 @@ Result<void, std::string> LogReader::take_topic() {
       !get_string(buffer_, at, topic.type) || at != buffer_.size())
     return make_unexpected("'" + path_ + "': malformed topic record before byte " +
                            std::to_string(offset_));
+  if (!valid_topic_name(topic.name))
+    return make_unexpected("'" + path_ + "': topic record before byte " + std::to_string(offset_) +
+                           ": '" + log::printable(topic.name) +
+                           "' is not a topic name (/segment/..., letters, digits and _)");
   if (index < topics_.size()) {
     if (topics_[index].name != topic.name || topics_[index].type != topic.type)
       return make_unexpected("'" + path_ + "': topic " + std::to_string(index) +

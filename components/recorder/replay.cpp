@@ -73,7 +73,9 @@ bool Replay::due(int64_t receive_ns, int64_t now_ns) {
     start_ns_ = now_ns;
     first_receive_ns_ = receive_ns;
   }
-  const double offset = static_cast<double>(receive_ns - *first_receive_ns_) / config_.rate;
+  // in doubles: a forged receive time (INT64_MAX, or below the first) must not overflow
+  const double offset =
+      (static_cast<double>(receive_ns) - static_cast<double>(*first_receive_ns_)) / config_.rate;
   return static_cast<double>(now_ns - *start_ns_) >= offset;
 }
 
@@ -114,6 +116,24 @@ void Replay::tick() {
     }
     pending_.reset();
   }
+}
+
+void Replay::on_deactivate() {
+  if (finished_ || !pending_) return;
+  const double wait_s =
+      config_.timing == "absolute"
+          ? static_cast<double>(pending_->receive_ns - clock().now_ns()) * 1e-9
+          : ((static_cast<double>(pending_->receive_ns) -
+              static_cast<double>(first_receive_ns_.value_or(pending_->receive_ns))) /
+                 config_.rate -
+             static_cast<double>(clock().now_ns() - start_ns_.value_or(clock().now_ns()))) *
+                1e-9;
+  SCANCREW_LOG_WARN(
+      "%s: %s not played to its end: %llu messages played; the next, at byte %llu, is due "
+      "%.3g s later than the run lasted (a recording longer than the run, or a corrupt receive "
+      "time)",
+      qualified_name().c_str(), config_.path.c_str(), static_cast<unsigned long long>(published_),
+      static_cast<unsigned long long>(reader_->offset()), wait_s);
 }
 
 SCANCREW_REGISTER_COMPONENT(Replay, "replay")

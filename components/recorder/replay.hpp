@@ -54,6 +54,9 @@ class Replay final : public Component {
   using PublishFn = std::function<Outcome(std::span<const uint8_t>)>;
 
   Result<void, std::string> on_configure() override;
+  // A replay stopped before the recording's end says where (a forged far-future receive time
+  // held the rest back silently).
+  void on_deactivate() override;
   void tick();
   bool due(int64_t receive_ns, int64_t now_ns);
 

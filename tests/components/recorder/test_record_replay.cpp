@@ -189,5 +189,47 @@ TEST_F(RecordReplay, BadRecordingsAndBadTopicsAreClearErrors) {
       << launch.error().front();
 }
 
+// A recording's topic names become topics and are echoed: a name with control bytes (an
+// escape sequence) is a corrupt file, refused before anything plays (Step 12's review).
+TEST_F(RecordReplay, ATopicNameThatIsNoTopicNameIsRefused) {
+  {
+    auto writer = LogWriter::open(log_);
+    ASSERT_TRUE(writer) << writer.error();
+    const uint16_t t = writer->add_topic({"/r1/\x1b[2Jimu", "scancrew/Imu"});
+    ASSERT_TRUE(writer->write(t, 1, std::vector<uint8_t>(4, 0)));
+    ASSERT_TRUE(writer->flush());
+  }
+  auto launch = Launch::from_string(replay_launch(), "replay.yaml");
+  ASSERT_FALSE(launch);
+  EXPECT_NE(launch.error().front().find("'/r1/\\x1b[2Jimu' is not a topic name"), std::string::npos)
+      << launch.error().front();
+}
+
+// A forged receive time far in the future held the rest of the recording back and the run
+// ended as if it had played it all; the replay now says it stopped short, and where.
+TEST_F(RecordReplay, AReplayStoppedShortSaysWhere) {
+  {
+    auto writer = LogWriter::open(log_);
+    ASSERT_TRUE(writer) << writer.error();
+    const uint16_t t = writer->add_topic({"/r1/imu", "scancrew/Imu"});
+    const std::vector<uint8_t> imu = msg::encode(msg::Imu{});
+    ASSERT_TRUE(writer->write(t, 1'000, imu));
+    ASSERT_TRUE(writer->write(t, INT64_MAX, imu));
+    ASSERT_TRUE(writer->flush());
+  }
+  auto launch = Launch::from_string(replay_launch(), "replay.yaml");
+  ASSERT_TRUE(launch) << launch.error().front();
+  ::testing::internal::CaptureStderr();
+  (*launch)->run();
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  auto* replay = (*launch)->find_component<Replay>();
+  ASSERT_NE(replay, nullptr);
+  EXPECT_EQ(replay->published(), 1U);
+  EXPECT_FALSE(replay->finished());
+  EXPECT_NE(err.find("not played to its end: 1 messages played; the next, at byte"),
+            std::string::npos)
+      << err;
+}
+
 }  // namespace
 }  // namespace scancrew::recorder
