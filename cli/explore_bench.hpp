@@ -17,7 +17,8 @@
 // not complete, stayed under 95 % of the reachable surface or touched something.
 // Writes OUT/explore.md (the family table; the full set adds Step 11's targets, met or not,
 // cli/explore_targets.hpp, and the thesis's rows, cli/thesis_table.hpp) and OUT/explore.csv
-// after every run; --json prints every run and the summary rows. --only: a subset of the runs (an A/B on some rows).
+// after every run; --json prints every run and the summary rows. --only: a subset of the runs (an
+// A/B on some rows).
 
 #include <cstddef>
 #include <string>

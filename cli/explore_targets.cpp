@@ -71,11 +71,14 @@ std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
   for (const ExploreRun* r : ran) {
     complete += r->completed() ? 1 : 0;
     covered += r->coverage_reachable >= 0.95 ? 1 : 0;
-    if (least == nullptr || r->coverage_reachable < least->coverage_reachable) least = r;
+    // a metric missing (NaN) fails its target and is named by neither extreme
+    if (std::isfinite(r->coverage_reachable) &&
+        (least == nullptr || r->coverage_reachable < least->coverage_reachable))
+      least = r;
     const double voxel = r->kind == "multirotor" ? voxels.multirotor_m : voxels.ground_m;
     const double rmse_voxels = r->rmse_m / voxel;
     accurate += rmse_voxels <= 1.5 ? 1 : 0;
-    if (coarsest == nullptr || !(rmse_voxels <= worst_rmse_voxels)) {
+    if (std::isfinite(rmse_voxels) && (coarsest == nullptr || rmse_voxels > worst_rmse_voxels)) {
       coarsest = r;
       worst_rmse_voxels = rmse_voxels;
     }
@@ -127,9 +130,12 @@ std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
         rows.push_back({target, "not run", false});
         continue;
       }
-      // out of time: the team's time is a lower bound, the single robot's too
+      // out of time: the team's time is a lower bound, the single robot's too (both: no bound)
       const double share = mission_time(*four) / mission_time(*one);
-      const std::string bound = !four->completed() ? "≥ " : !one->completed() ? "≤ " : "";
+      const std::string bound = !four->completed() && !one->completed() ? "no bound, "
+                                : !four->completed()                    ? "≥ "
+                                : !one->completed()                     ? "≤ "
+                                                                        : "";
       rows.push_back({target,
                       bound + fixed(100 * share, 0) + " % (" + ending(*four) + ", one robot " +
                           ending(*one) + ")",

@@ -101,9 +101,10 @@ int main(int argc, char** argv) {
   scancrew::cli::RunOptions run_options;
   auto* run = app.add_subcommand(
       "run", "compose a launch file and run it; a mission writes its run directory and report");
-  add_launch_options(run, run_options,
-                     "run directory ({out} in the launch file; default runs/<launch stem>)",
-                     "run the first N robots of the launch file's robots: list (default: all)");
+  add_launch_options(
+      run, run_options, "run directory ({out} in the launch file; default runs/<launch stem>)",
+      "run the first N robots of the launch file's robots: list (default: all); a mission "
+      "file is composed with N robots");
 
   // one process of a team split over processes (docs/processes.md)
   scancrew::cli::RunOptions part_options;

@@ -55,7 +55,11 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   ComponentPlan mapper{.name = "mapper", .type = "tsdf_mapper", .per_robot = !centralized};
   mapper.params["mode"] = s.arch;
   if (masked) mapper.params["depth_topic"] = "depth_masked";
-  mapper.params["mesh_path"] = s.arch == "distributed" ? "{out}/mesh_{ns}.ply" : "{out}/mesh.ply";
+  // with a reconstruction map, mesh.ply is its mesh (run_command.cpp) and the planning map's
+  // is kept beside it
+  mapper.params["mesh_path"] = s.arch == "distributed"        ? "{out}/mesh_{ns}.ply"
+                               : s.reconstruction_voxel_m > 0 ? "{out}/mesh_map.ply"
+                                                              : "{out}/mesh.ply";
   mapper.params["octomap_path"] = s.arch == "distributed" ? "{out}/map_{ns}.bt" : "{out}/map.bt";
   g.push_back(mapper);
   if (s.reconstruction_voxel_m > 0) {
@@ -202,9 +206,13 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
     const std::string section = c.name == "recon" ? "mapper" : c.name;
     if (c.name == "monitor" && s.reconstruction_voxel_m > 0) {
       // both meshes scored at the planning map's e_max, the thesis's (r_v sqrt(3) / 2)
+      // (the profile's value: a --set of the voxel does not move it)
       const YAML::Node voxel = (*profile)["mapper"]["voxel_m"];
-      if (voxel.IsDefined() && voxel.IsScalar())
-        c.params["eval_e_max_m"] = number(voxel.as<double>() * std::sqrt(3.0) / 2);
+      try {
+        if (voxel.IsDefined() && voxel.IsScalar())
+          c.params["eval_e_max_m"] = number(voxel.as<double>() * std::sqrt(3.0) / 2);
+      } catch (const YAML::Exception&) {  // not a number: the mapper refuses it by name
+      }
     }
     merge_section(*profile, section, c.params);
     merge_section(*profile, section + "_" + s.arch, c.params);

@@ -90,7 +90,8 @@ Result<SweepPlan, std::string> read_plan(const std::string& path) {
 }
 
 // How many robots a launch file lists (1 without a robots: list, as Launch counts them), and
-// how many it runs when not told (run.robots, else all); 0 if it cannot say.
+// how many it runs when not told (run.robots, else all); 0 if it cannot say. A mission file
+// "lists" every team it composes (the scene's starts of its kind; scancrew run --robots N).
 struct TeamSize {
   size_t listed = 0, runs = 0;
 };
@@ -110,6 +111,12 @@ TeamSize team_size(const std::string& launch_path) {
     } catch (const YAML::Exception&) {
       // Launch refuses it with its own message when the run starts
     }
+  }
+  if (const auto raw = read_text_file(launch_path)) {
+    const auto raw_root = parse_yaml(*raw, launch_path);
+    if (raw_root && raw_root->IsMap() && (*raw_root)["mission"].IsDefined())
+      for (size_t n = team.listed + 1; n <= 64 && launch_file_text(launch_path, n); ++n)
+        team.listed = n;
   }
   return team;
 }
