@@ -475,6 +475,18 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
 
 }  // namespace
 
+// What the components reported failed during the run (Component::report_failure), listed;
+// false when nothing did.
+bool print_failures(Launch& launch) {
+  const auto failures = launch.graph().failures();
+  if (failures.empty()) return false;
+  std::fprintf(stderr, "scancrew run: %zu failure(s) during the run lost data or output:\n",
+               failures.size());
+  for (const auto& f : failures)
+    std::fprintf(stderr, "  %s\n", scancrew::log::printable(f).c_str());
+  return true;
+}
+
 int run_launch(const RunOptions& o) {
   const auto text = launch_file_text(o.launch_path, o.robot_count);
   if (!text) {
@@ -577,7 +589,7 @@ int run_launch(const RunOptions& o) {
   for (const auto* bridge : bridges) print_bridge_bytes(*bridge, run.sim_s);
   if (monitor == nullptr) {
     print_topic_stats(stdout, launch->graph());
-    return 0;
+    return print_failures(*launch) ? 4 : 0;  // docs/missions.md, "Exit status"
   }
   print_mission_progress(*monitor, run.sim_s, launch->settings().duration_s, run.wall_s, true);
   monitor->close_time_breakdown();
@@ -601,6 +613,7 @@ int run_launch(const RunOptions& o) {
     return 2;
   }
   // docs/missions.md, "Exit status"
+  if (print_failures(*launch)) return 4;
   if (run.stop_reason == "complete") return 0;
   return interrupted ? 130 : 3;
 }

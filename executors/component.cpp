@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "executors/log.hpp"
+
 namespace scancrew {
 
 std::string_view to_string(LifecycleState state) {
@@ -99,6 +101,11 @@ void Component::note_port(std::string_view port, const std::string& topic, std::
   // an endpoint refused for its type is reported by configure(), not recorded in the graph
   if (connected)
     context_.graph->record({kind, qualified_name_, std::string(port), topic, std::string(type)});
+}
+
+void Component::report_failure(const std::string& what) {
+  SCANCREW_LOG_ERROR("%s: %s", qualified_name_.c_str(), what.c_str());
+  context_.graph->report_failure(qualified_name_ + ": " + what);
 }
 
 void Component::mark_input_optional(std::string_view port) {

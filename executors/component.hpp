@@ -142,6 +142,9 @@ class Component {
   // The robots of the launch file (empty when the component was built outside one).
   const std::vector<TeamMember>& team() const;
   Graph& graph() { return *context_.graph; }
+  // Something failed that loses data or output (a file not written, a replay stopped):
+  // logged as an error and kept by the graph, so the run's exit status says so.
+  void report_failure(const std::string& what);
 
  private:
   std::optional<PortQos> port_qos(std::string_view port) const;

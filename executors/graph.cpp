@@ -14,6 +14,16 @@ void Graph::mark_optional(const std::string& component, const std::string& port)
   optional_inputs_.emplace(component, port);
 }
 
+void Graph::report_failure(std::string what) {
+  std::lock_guard lock(mutex_);
+  failures_.push_back(std::move(what));
+}
+
+std::vector<std::string> Graph::failures() const {
+  std::lock_guard lock(mutex_);
+  return failures_;
+}
+
 std::vector<EndpointInfo> Graph::endpoints() const {
   std::lock_guard lock(mutex_);
   return endpoints_;

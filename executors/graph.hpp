@@ -70,6 +70,10 @@ class Graph {
   std::shared_ptr<TopicBase> find(const std::string& name) const;
   std::vector<TopicStats> stats() const;
   GraphReport check() const;
+  // What failed during the run and lost something (an output not written, a recording that
+  // stopped playing): Component::report_failure. scancrew run exits 4 when any did.
+  void report_failure(std::string what);
+  std::vector<std::string> failures() const;
 
  private:
   std::string mismatch_message(const std::string& name, const std::string& have,
@@ -81,6 +85,7 @@ class Graph {
   std::unordered_map<std::string, std::shared_ptr<TopicBase>> topics_;
   std::vector<std::string> order_;
   std::vector<EndpointInfo> endpoints_;
+  std::vector<std::string> failures_;
 };
 
 }  // namespace scancrew

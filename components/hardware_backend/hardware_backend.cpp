@@ -226,20 +226,21 @@ void HardwareBackend::forward(const msg::VelocityCommand& command) {
     ++stats_.commands_without_base;
     return;
   }
-  // a non-finite command (a NaN pose upstream, a forged message) never reaches the motors
-  if (!std::isfinite(command.linear_mps.x) || !std::isfinite(command.linear_mps.y) ||
-      !std::isfinite(command.linear_mps.z) || !std::isfinite(command.yaw_rate_radps)) {
-    if (stats_.commands_not_finite++ == 0)
-      SCANCREW_LOG_ERROR(
-          "%s: a velocity command that is not finite was dropped; further ones "
-          "are counted",
-          qualified_name().c_str());
-    return;
-  }
-  auto sent = base_.send(robot_id(), command.header.stamp_ns, command.linear_mps.x,
-                         command.linear_mps.y, command.linear_mps.z, command.yaw_rate_radps);
+  // a non-finite command (a NaN pose upstream, a forged message) never reaches the motors:
+  // the base gets a stop instead (dropping it would leave the last command running)
+  const bool finite = std::isfinite(command.linear_mps.x) && std::isfinite(command.linear_mps.y) &&
+                      std::isfinite(command.linear_mps.z) && std::isfinite(command.yaw_rate_radps);
+  if (!finite && stats_.commands_not_finite++ == 0)
+    SCANCREW_LOG_ERROR(
+        "%s: a velocity command that is not finite was replaced by a stop; further ones are "
+        "counted",
+        qualified_name().c_str());
+  auto sent = finite
+                  ? base_.send(robot_id(), command.header.stamp_ns, command.linear_mps.x,
+                               command.linear_mps.y, command.linear_mps.z, command.yaw_rate_radps)
+                  : base_.send(robot_id(), command.header.stamp_ns, 0, 0, 0, 0);
   if (sent) {
-    ++stats_.commands_sent;
+    stats_.commands_sent += finite ? 1 : 0;
     return;
   }
   ++stats_.command_send_errors;
@@ -272,7 +273,7 @@ void HardwareBackend::on_shutdown() {
       "%s: %llu frames published; dropped: %llu grab failed, %llu left/right size mismatch, "
       "%llu calibration size mismatch, %llu unsupported format, %llu no buffer; IMU: %llu "
       "published, %llu malformed lines, %llu overlong, %llu read errors; base: %llu commands "
-      "sent, %llu send errors, %llu without a base, %llu not finite (dropped)",
+      "sent, %llu send errors, %llu without a base, %llu not finite (a stop sent instead)",
       qualified_name().c_str(), static_cast<unsigned long long>(s.frames_published),
       dropped(FrameStatus::kGrabFailed), dropped(FrameStatus::kSizeMismatch),
       dropped(FrameStatus::kCalibrationSizeMismatch), dropped(FrameStatus::kUnsupportedFormat),

@@ -79,7 +79,7 @@ class HardwareBackend final : public Component {
     hardware::ImuLineStats imu_lines;
     uint64_t imu_published = 0, imu_no_buffer = 0, imu_read_errors = 0, imu_silences = 0;
     uint64_t commands_sent = 0, command_send_errors = 0, commands_without_base = 0;
-    uint64_t commands_not_finite = 0;  // dropped: a NaN or infinite speed
+    uint64_t commands_not_finite = 0;  // a NaN or infinite speed: a stop was sent instead
     uint64_t stop_commands_sent = 0;   // the zero command sent on deactivate
   };
 

@@ -288,7 +288,7 @@ void IseExtractor::on_deactivate() {
     if (auto written = write_ise_ply(*r, config_.ply_path))
       SCANCREW_LOG_INFO("%s: wrote %s", qualified_name().c_str(), config_.ply_path.c_str());
     else
-      SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), written.error().c_str());
+      report_failure(written.error());
   }
 }
 

@@ -1,6 +1,6 @@
 #include "components/recorder/log_file.hpp"
 
-#include <cctype>
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <system_error>
@@ -170,20 +170,13 @@ Result<std::optional<uint8_t>, std::string> LogReader::read_record(bool want_pay
 
 namespace {
 
-// A topic name as the graph makes them: "/" then segments of letters, digits and '_' joined
-// by "/", at most 256 bytes. A recording's names are echoed and become topics: anything
-// else (control bytes, empty segments) is a corrupt or hostile file.
+// A topic name: absolute, at most 256 bytes, printable ASCII without spaces (launch remaps
+// and bridge prefixes allow more than letters, digits and '_', so the reader asks no more).
+// A recording's names are echoed and become topics: control bytes (an escape sequence) or
+// an empty name are a corrupt or hostile file.
 bool valid_topic_name(const std::string& name) {
-  if (name.size() < 2 || name.size() > 256 || name.front() != '/' || name.back() == '/')
-    return false;
-  char previous = '/';
-  for (size_t i = 1; i < name.size(); ++i) {
-    const char c = name[i];
-    if (c == '/' ? previous == '/' : !(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
-      return false;
-    previous = c;
-  }
-  return true;
+  return name.size() >= 2 && name.size() <= 256 && name.front() == '/' &&
+         std::all_of(name.begin(), name.end(), [](char c) { return c > ' ' && c < 0x7f; });
 }
 
 }  // namespace
@@ -199,7 +192,7 @@ Result<void, std::string> LogReader::take_topic() {
   if (!valid_topic_name(topic.name))
     return make_unexpected("'" + path_ + "': topic record before byte " + std::to_string(offset_) +
                            ": '" + log::printable(topic.name) +
-                           "' is not a topic name (/segment/..., letters, digits and _)");
+                           "' is not a topic name (absolute, printable, at most 256 bytes)");
   if (index < topics_.size()) {
     if (topics_[index].name != topic.name || topics_[index].type != topic.type)
       return make_unexpected("'" + path_ + "': topic " + std::to_string(index) +

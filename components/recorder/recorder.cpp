@@ -48,7 +48,7 @@ Result<void, std::string> Recorder::on_configure() {
                [this] {
                  std::lock_guard lock(mutex_);
                  if (auto r = writer_->flush(); !r && write_errors_++ == 0)
-                   SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), r.error().c_str());
+                   report_failure(r.error() + " (further errors are counted)");
                });
   return {};
 }
@@ -85,8 +85,7 @@ Result<void, std::string> Recorder::add(const std::string& spec) {
 
 void Recorder::write(uint16_t topic, std::span<const uint8_t> bytes) {
   if (auto r = writer_->write(topic, clock().now_ns(), bytes); !r && write_errors_++ == 0)
-    SCANCREW_LOG_ERROR("%s: %s (further errors are counted)", qualified_name().c_str(),
-                       r.error().c_str());
+    report_failure(r.error() + " (further errors are counted)");
 }
 
 void Recorder::on_deactivate() {

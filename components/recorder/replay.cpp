@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "executors/log.hpp"
 #include "executors/registry.hpp"
@@ -85,7 +86,8 @@ void Replay::tick() {
     if (!pending_) {
       auto next = reader_->next();
       if (!next) {
-        SCANCREW_LOG_ERROR("%s: %s; replay stops", qualified_name().c_str(), next.error().c_str());
+        report_failure(next.error() + "; replay stops after " + std::to_string(published_) +
+                       " messages");
         finished_ = true;
         return;
       }
@@ -120,20 +122,28 @@ void Replay::tick() {
 
 void Replay::on_deactivate() {
   if (finished_ || !pending_) return;
-  const double wait_s =
+  const double now = static_cast<double>(clock().now_ns());
+  const double due_ns =
       config_.timing == "absolute"
-          ? static_cast<double>(pending_->receive_ns - clock().now_ns()) * 1e-9
-          : ((static_cast<double>(pending_->receive_ns) -
-              static_cast<double>(first_receive_ns_.value_or(pending_->receive_ns))) /
-                 config_.rate -
-             static_cast<double>(clock().now_ns() - start_ns_.value_or(clock().now_ns()))) *
-                1e-9;
+          ? static_cast<double>(pending_->receive_ns)
+          : static_cast<double>(start_ns_.value_or(clock().now_ns())) +
+                (static_cast<double>(pending_->receive_ns) -
+                 static_cast<double>(first_receive_ns_.value_or(pending_->receive_ns))) /
+                    config_.rate;
+  const double wait_s = (due_ns - now) * 1e-9;
+  char why[160];
+  if (wait_s > 0)
+    std::snprintf(why, sizeof why,
+                  "is due %.3g s after the run's end (a recording longer than the run, or a "
+                  "corrupt receive time)",
+                  wait_s);
+  else
+    std::snprintf(why, sizeof why, "was due but its topic's pool stayed full");
   SCANCREW_LOG_WARN(
-      "%s: %s not played to its end: %llu messages played; the next, at byte %llu, is due "
-      "%.3g s later than the run lasted (a recording longer than the run, or a corrupt receive "
-      "time)",
+      "%s: %s not played to its end: %llu messages played; the next (the record ending at byte "
+      "%llu) %s",
       qualified_name().c_str(), config_.path.c_str(), static_cast<unsigned long long>(published_),
-      static_cast<unsigned long long>(reader_->offset()), wait_s);
+      static_cast<unsigned long long>(reader_->offset()), why);
 }
 
 SCANCREW_REGISTER_COMPONENT(Replay, "replay")

@@ -160,14 +160,14 @@ void TsdfMapper::write_outputs() {
       SCANCREW_LOG_INFO("%s: wrote %s (%zu triangles)", qualified_name().c_str(),
                         config_.mesh_path.c_str(), mesh.triangles.size());
     else
-      SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), written.error().c_str());
+      report_failure(written.error());
   }
   if (!config_.octomap_path.empty()) {
     const auto written = write_octomap(*snap, config_.octomap_path);
     if (written)
       SCANCREW_LOG_INFO("%s: wrote %s", qualified_name().c_str(), config_.octomap_path.c_str());
     else
-      SCANCREW_LOG_ERROR("%s: %s", qualified_name().c_str(), written.error().c_str());
+      report_failure(written.error());
   }
 }
 

@@ -554,12 +554,15 @@ TEST_F(HardwareBackendTest, SendsEachVelocityCommandAsOneDatagramAndAStopOnDeact
   EXPECT_EQ(d2.yaw_rate_radps, -0.7);
   EXPECT_EQ(stop2.seq, 4u);
   EXPECT_FALSE(base.receive(0ms)) << "one datagram per command";
-  command(std::nan(""), 0, 0, 0, 555);  // dropped: it never reaches the motors
+  command(std::nan(""), 0.5, 0, 0, 555);  // never reaches the motors: a stop instead
   run.launch->run();
-  const hardware::VelocityDatagram stop3 = next();
-  EXPECT_EQ(stop3.seq, 5u);
-  EXPECT_EQ(stop3.vx_mps, 0.0);
-  EXPECT_FALSE(base.receive(0ms)) << "the NaN command was sent";
+  const hardware::VelocityDatagram instead = next(), stop3 = next();
+  EXPECT_EQ(instead.seq, 5u);
+  EXPECT_EQ(instead.stamp_ns, 555);
+  EXPECT_EQ(instead.vx_mps, 0.0);
+  EXPECT_EQ(instead.vy_mps, 0.0);
+  EXPECT_EQ(stop3.seq, 6u);
+  EXPECT_FALSE(base.receive(0ms)) << "one datagram per command";
   const auto stats = run.backend->stats();
   EXPECT_EQ(stats.commands_sent, 2u);
   EXPECT_EQ(stats.commands_not_finite, 1u);

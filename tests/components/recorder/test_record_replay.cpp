@@ -226,7 +226,8 @@ TEST_F(RecordReplay, AReplayStoppedShortSaysWhere) {
   ASSERT_NE(replay, nullptr);
   EXPECT_EQ(replay->published(), 1U);
   EXPECT_FALSE(replay->finished());
-  EXPECT_NE(err.find("not played to its end: 1 messages played; the next, at byte"),
+  EXPECT_NE(err.find("not played to its end: 1 messages played; the next (the record ending at "
+                     "byte"),
             std::string::npos)
       << err;
 }
