@@ -141,18 +141,19 @@ std::vector<ExploreRun> plan_runs(const std::vector<BenchScene>& scenes, bool qu
   return runs;
 }
 
-// A run done before (resume): its exit status and metrics.json.
+// A run done before (resume): its exit status and metrics.json. A run not done stays as it was.
 bool read_done(ExploreRun& r) {
   const auto status = read_text_file((fs::path(r.run_dir) / "exit_status").string());
   if (!status) return false;
-  r.exit_status = std::atoi(status->c_str());
-  if (r.exit_status != 0 && r.exit_status != 3) return false;  // failed or interrupted: again
+  const int exit_status = std::atoi(status->c_str());
+  if (exit_status != 0 && exit_status != 3) return false;  // failed or interrupted: again
   const auto text = read_text_file((fs::path(r.run_dir) / "metrics.json").string());
   if (!text) return false;
   auto read = read_explore_metrics(*text, r, r.run_dir + "/metrics.json");
-  if (!read) return false;
+  if (!read || read->stop_reason == "interrupted") return false;
   r = std::move(read).value();
-  return r.stop_reason != "interrupted";
+  r.exit_status = exit_status;
+  return true;
 }
 
 void finish_run(ExploreRun& r, int status) {
@@ -279,6 +280,16 @@ int run_explore_bench(const ExploreOptions& o) {
     std::ofstream(out / "explore.md") << markdown();
   };
 
+  if (o.report) {
+    size_t found = 0;
+    for (ExploreRun& r : runs) found += read_done(r) ? 1 : 0;
+    write_tables();
+    std::printf("%s", o.json ? format_explore_json(runs).c_str() : markdown().c_str());
+    std::fprintf(stderr, "%zu of %zu runs done under %s; %s, %s\n", found, runs.size(), out.c_str(),
+                 (out / "explore.md").c_str(), (out / "explore.csv").c_str());
+    return 0;
+  }
+
   g_stop = 0;
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
@@ -307,6 +318,8 @@ int run_explore_bench(const ExploreOptions& o) {
       if (!launch) {
         r.error = launch.error();
         ++done;
+        std::fprintf(stderr, "[%5.1f min] %s %s %zu: not started: %s\n", minutes(), r.scene.c_str(),
+                     r.arch.c_str(), r.robots, r.error.c_str());
         continue;
       }
       const std::string launch_path = (fs::path(r.run_dir) / "launch.yaml").string();

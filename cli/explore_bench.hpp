@@ -18,7 +18,8 @@
 // Writes OUT/explore.md (the family table; the full set adds Step 11's targets, met or not,
 // cli/explore_targets.hpp, and the thesis's rows, cli/thesis_table.hpp) and OUT/explore.csv
 // after every run; --json prints every run and the summary rows. --only: a subset of the runs (an
-// A/B on some rows).
+// A/B on some rows). --report: the tables of the runs already done under --out, starting none
+// (a benchmark stopped part way: the rest read "not run").
 
 #include <cstddef>
 #include <string>
@@ -34,6 +35,7 @@ struct ExploreOptions {
   // not empty: only the runs whose name (<scene>_<arch>_r<N>) contains one of these; the
   // tables then hold those runs only
   std::vector<std::string> only;
+  bool report = false;  // write the tables of the runs done, start none
 };
 
 int run_explore_bench(const ExploreOptions& options);

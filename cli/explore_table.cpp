@@ -10,6 +10,11 @@ namespace scancrew::cli {
 
 namespace {
 
+// started by no benchmark yet (stopped before its turn, or --report)
+bool not_run(const ExploreRun& r) {
+  return r.exit_status == -1 && r.error.empty() && !r.ran();
+}
+
 using Json = nlohmann::ordered_json;
 
 double number(const Json& j, const char* key) {
@@ -45,7 +50,7 @@ std::vector<Row> aggregate(const std::vector<ExploreRun>& runs) {
     if (added) rows.push_back({.family = r.family, .arch = r.arch, .robots = r.robots});
     Row& row = rows[it->second];
     ++row.runs;
-    if (r.exit_status == -1 && r.error.empty()) ++row.not_run;  // stopped before its turn
+    if (not_run(r)) ++row.not_run;
     if (!r.ran()) continue;
     ++row.ran;
     if (r.completed()) {
@@ -158,7 +163,7 @@ std::string format_explore_csv(const std::vector<ExploreRun>& runs) {
                                         r.arch,
                                         std::to_string(r.robots),
                                         csv_number(r.budget_s),
-                                        r.stop_reason,
+                                        not_run(r) ? "not_run" : r.stop_reason,
                                         std::to_string(r.exit_status),
                                         csv_number(r.completion_time_s),
                                         csv_number(r.sim_time_s),

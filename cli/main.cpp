@@ -435,6 +435,8 @@ int main(int argc, char** argv) {
                    "only the runs whose name (<scene>_<architecture>_r<robots>) contains one of "
                    "these, comma-separated (e.g. powerplant_,indoor_1_centralized)")
       ->delimiter(',');
+  explore_cmd->add_flag("--report", explore_bench.report,
+                        "write the tables of the runs already done under --out; start none");
 
   CLI11_PARSE(app, argc, argv);
 
