@@ -24,12 +24,22 @@ std::string printable(std::string_view text) {
   std::string out;
   const size_t n = std::min(text.size(), kMaxMessageBytes);
   out.reserve(n);
+  const auto escape = [&out](unsigned char c) {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "\\x%02x", c);
+    out += hex;
+  };
   for (size_t i = 0; i < n; ++i) {
     const auto c = static_cast<unsigned char>(text[i]);
-    if ((c < 0x20 && c != '\n' && c != '\t') || c == 0x7f) {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02x", c);
-      out += hex;
+    if (c == '\n') {
+      out += "\\n";  // one record per line: a file cannot forge a log line of its own
+    } else if ((c < 0x20 && c != '\t') || c == 0x7f) {
+      escape(c);
+    } else if (c == 0xc2 && i + 1 < n && static_cast<unsigned char>(text[i + 1]) >= 0x80 &&
+               static_cast<unsigned char>(text[i + 1]) <= 0x9f) {
+      // a C1 control in UTF-8 (U+0080..U+009F: U+009B is CSI, an escape sequence's start)
+      escape(c);
+      escape(static_cast<unsigned char>(text[++i]));
     } else {
       out += static_cast<char>(c);
     }

@@ -20,9 +20,10 @@ void write(Level level, const char* format, ...) __attribute__((format(printf, 2
 
 // A message is cut here, with the count of bytes left out.
 inline constexpr size_t kMaxMessageBytes = size_t{64} * 1024;
-// Text from files and links made safe for a terminal: control bytes other than newline and
-// tab (an escape sequence, a carriage return that overwrites the line) become \xNN; cut at
-// kMaxMessageBytes. Every log line goes through it; print other untrusted text with it too.
+// Text from files and links made safe for a terminal: control bytes other than tab (an escape
+// sequence, a carriage return that overwrites the line) and UTF-8's C1 controls become \xNN, a
+// newline \n (a record stays one line); cut at kMaxMessageBytes. Every log line goes through
+// it; print other untrusted text with it too.
 std::string printable(std::string_view text);
 
 }  // namespace scancrew::log

@@ -1,8 +1,10 @@
 #include "executors/params.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -70,7 +72,9 @@ Result<YAML::Node, std::string> parse_yaml(const std::string& text, const std::s
 Result<std::string, std::string> read_text_file(const std::string& path) {
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(status)) return make_unexpected(std::string("no such file"));
+  // a folder that may not be searched is not "no such file": give the system's reason
+  if (ec && ec != std::errc::no_such_file_or_directory) return make_unexpected(ec.message());
+  if (!std::filesystem::exists(status)) return make_unexpected(std::string("no such file"));
   if (!std::filesystem::is_regular_file(status))
     return make_unexpected(std::string("not a regular file (a device, a pipe or a directory)"));
   const uintmax_t size = std::filesystem::file_size(path, ec);
@@ -79,7 +83,8 @@ Result<std::string, std::string> read_text_file(const std::string& path) {
     return make_unexpected(std::to_string(size) + " bytes, over the " +
                            std::to_string(kMaxTextFileBytes >> 20) + " MiB a text file may have");
   std::ifstream in(path, std::ios::binary);
-  if (!in) return make_unexpected(std::string("cannot open it"));
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): the message of this thread's errno, read at once
+  if (!in) return make_unexpected(std::string("cannot open it: ") + std::strerror(errno));
   std::string text;
   text.resize(static_cast<size_t>(size));
   in.read(text.data(), static_cast<std::streamsize>(size));

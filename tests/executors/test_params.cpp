@@ -143,6 +143,9 @@ TEST(ReadTextFile, RefusesDevicesDirectoriesAndHugeFiles) {
 
   EXPECT_NE(read_text_file((dir / "missing.yaml").string()).error().find("no such file"),
             std::string::npos);
+  // the system's reason when it is not "no such file" (a file used as a folder; EACCES alike)
+  EXPECT_EQ(read_text_file((small / "x.yaml").string()).error(),
+            std::make_error_code(std::errc::not_a_directory).message());
   EXPECT_NE(read_text_file("/dev/zero").error().find("not a regular file"), std::string::npos);
   EXPECT_NE(read_text_file(dir.string()).error().find("not a regular file"), std::string::npos);
   const auto huge = dir / "huge.yaml";  // sparse: no disk used
