@@ -6,8 +6,11 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <string_view>
 #include <system_error>
+
+#include "executors/params_impl.hpp"
 
 namespace scancrew::mission {
 namespace {
@@ -118,8 +121,10 @@ std::vector<std::string_view> split_header(std::string_view header) {
 template <class Sample, class Parse>
 Result<std::vector<Sample>, std::string> read_csv(const std::string& path, const char* header,
                                                   Parse parse_line) {
-  std::ifstream in(path);
-  if (!in) return make_unexpected("cannot open '" + path + "' for reading");
+  // a regular file of bounded size (a device or a pipe would be read for ever)
+  const auto text = read_text_file(path);
+  if (!text) return make_unexpected("cannot read '" + path + "': " + text.error());
+  std::istringstream in(*text);
   const std::vector<std::string_view> names = split_header(header);
   std::vector<Sample> samples;
   std::string line;
@@ -129,7 +134,8 @@ Result<std::vector<Sample>, std::string> read_csv(const std::string& path, const
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line_no == 1) {
       if (line != header)
-        return make_unexpected(path + ":1: header '" + line + "', expected '" + header + "'");
+        return make_unexpected(path + ":1: header '" + line.substr(0, 120) + "', expected '" +
+                               header + "'");
       continue;
     }
     if (line.empty()) continue;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "eval/ply_mesh.hpp"
+#include "executors/params_impl.hpp"
 #include "mission/plots.hpp"
 #include "mission/run_files.hpp"
 #include "mission/time_breakdown.hpp"
@@ -389,13 +390,13 @@ Result<void, std::string> write_report(const std::string& run_dir) {
   if (!fs::is_directory(dir, ec))
     return make_unexpected("run directory '" + run_dir + "' does not exist");
   const fs::path metrics_path = dir / "metrics.json";
-  std::ifstream metrics_in(metrics_path);
-  if (!fs::is_regular_file(metrics_path, ec) || !metrics_in)
+  const auto metrics_text = read_text_file(metrics_path.string());
+  if (!metrics_text)
     return make_unexpected("run directory '" + run_dir + "' has no readable metrics.json ('" +
-                           metrics_path.string() + "')");
+                           metrics_path.string() + "': " + metrics_text.error() + ")");
   Json metrics;
   try {
-    metrics = Json::parse(metrics_in);
+    metrics = Json::parse(*metrics_text);
   } catch (const Json::exception& e) {
     return make_unexpected("metrics file '" + metrics_path.string() + "': " + e.what());
   }

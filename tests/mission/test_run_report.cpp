@@ -227,6 +227,10 @@ TEST(RunFiles, ReaderRejectsBadFieldsAndCounts) {
   const auto missing = read_paths_csv(dir.file("no_such.csv"));
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().find("no_such.csv"), std::string::npos);
+  // a device is one endless line: refused before reading (it ran out of memory)
+  const auto device = read_coverage_csv("/dev/zero");
+  ASSERT_FALSE(device);
+  EXPECT_NE(device.error().find("not a regular file"), std::string::npos) << device.error();
 }
 
 TEST(RunFiles, WriterNamesAnUnwritableFile) {
