@@ -18,6 +18,8 @@ std::string_view to_string(Reject reject) {
       return "unknown robot id";
     case Reject::kMalformed:
       return "malformed";
+    case Reject::kForgedSender:
+      return "forged sender";
   }
   return "?";
 }

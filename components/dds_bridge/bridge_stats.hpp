@@ -22,8 +22,9 @@ enum class Reject : uint8_t {
   kOversize,       // a payload over max_sample_bytes
   kUnknownRobot,   // a robot id (envelope or message header) not in the team
   kMalformed,      // the payload does not decode (truncated, trailing bytes, bad counts)
+  kForgedSender,   // a robot id that the sending participant did not announce at discovery
 };
-inline constexpr size_t kRejectKinds = 6;
+inline constexpr size_t kRejectKinds = 7;
 std::string_view to_string(Reject reject);
 
 struct TopicCounters {

@@ -51,18 +51,29 @@ Result<void, std::string> DdsBridge::on_configure() {
       on_sync(std::move(envelope));
       return;
     }
-    {
+    // checked before queueing: a payload over max_sample_bytes is not kept (the envelope is,
+    // to be counted); the lockstep's marks count a sample only from the participant that
+    // announced its robot, in the team
+    const bool oversize = envelope.payload.size() > config_.max_sample_bytes;
+    if (oversize) envelope.payload = {};
+    if (!oversize && envelope.sender_robot_id == envelope.robot_id &&
+        in_team(rules_, envelope.robot_id)) {
       const std::lock_guard lock(sync_mutex_);
       uint64_t& max = received_max_[{envelope.robot_id, reader}];
       max = std::max(max, envelope.seq);
       sync_cv_.notify_all();
     }
-    Incoming in{reader, std::move(envelope), bytes, clock().now_ns()};
+    Incoming in{reader, std::move(envelope), bytes, clock().now_ns(), oversize};
     std::lock_guard lock(inbox_mutex_);
-    if (inbox_.size() >= config_.inbox_samples) {
+    // bounded in samples and in bytes: the oldest go first
+    while (!inbox_.empty() &&
+           (inbox_.size() >= config_.inbox_samples ||
+            inbox_payload_bytes_ + in.envelope.payload.size() > config_.inbox_bytes)) {
       ++inbox_drops_[inbox_.front().topic];
+      inbox_payload_bytes_ -= inbox_.front().envelope.payload.size();
       inbox_.pop_front();
     }
+    inbox_payload_bytes_ += in.envelope.payload.size();
     inbox_.push_back(std::move(in));
     ++taken_;
   };
@@ -282,6 +293,7 @@ void DdsBridge::tick() {
     drained_.insert(drained_.end(), std::make_move_iterator(inbox_.begin()),
                     std::make_move_iterator(inbox_.end()));
     inbox_.clear();
+    inbox_payload_bytes_ = 0;
     events.swap(peer_events_);
   }
   if (!held_.empty()) {  // lockstep: samples held back until their step released them
@@ -341,6 +353,12 @@ void DdsBridge::admit(Incoming&& in) {
     return;
   }
   std::string detail;
+  if (in.oversize) {
+    reject(c, Reject::kOversize,
+           "on " + c.dds_topic + ": a payload over max_sample_bytes " +
+               std::to_string(config_.max_sample_bytes) + " (not queued)");
+    return;
+  }
   if (auto reason = check_envelope(in.envelope, t.spec.type_name, rules_, &detail)) {
     reject(c, *reason, "on " + c.dds_topic + ": " + detail);
     return;

@@ -118,6 +118,7 @@ DdsBridge::Config DdsBridge::read_config(ParamReader& p) {
   read_robot_ids(p, "team_ids", c.team_ids);
   p.optional("max_sample_bytes", c.max_sample_bytes, {64, 4294967295.0});
   p.optional("inbox_samples", c.inbox_samples, {1, 1e7});
+  p.optional("inbox_bytes", c.inbox_bytes, {1024, 1e12});
   p.optional("poll_period_s", c.poll_period_s, {1e-4, 1.0});
   p.optional("liveliness_lease_s", c.liveliness_lease_s, {0.1, 3600});
   p.optional("bridge_id", c.bridge_id, {-1, 4294967295.0});

@@ -264,6 +264,14 @@ StepGate* DdsBridge::step_gate() {
 // DDS thread: a peer's StepSync.
 void DdsBridge::on_sync(WireEnvelope&& envelope) {
   if (envelope.robot_id == self_id_) return;
+  // only from the participant that announced that bridge id, in the team (a forged stop or
+  // step would end or run every follower)
+  if (envelope.sender_robot_id != envelope.robot_id || !in_team(rules_, envelope.robot_id)) {
+    warn_once("lockstep: a sample on " + std::string(kSyncTopic) + " claiming bridge " +
+              std::to_string(envelope.robot_id) +
+              " from a participant that did not announce it (or not in the team); ignored");
+    return;
+  }
   msg::StepSync sync;
   if (envelope.format_version != msg::kMessageFormatVersion ||
       envelope.type_name != msg::StepSync::kTypeName || !msg::decode(envelope.payload, sync)) {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -77,6 +78,7 @@ struct DdsLink::Impl {
   std::vector<fdds::DataWriter*> writers;
   std::vector<fdds::DataReader*> readers;
   std::vector<std::unique_ptr<fdds::DataReaderListener>> listeners;
+  std::unique_ptr<fdds::DomainParticipantListener> participant_listener;
   fdds::DataWriter* presence_writer = nullptr;
   fdds::DataReader* presence_reader = nullptr;
 
@@ -84,8 +86,12 @@ struct DdsLink::Impl {
   std::shared_mutex callback_mutex;
   std::atomic<bool> closing{false};
 
-  // presence: which robot each peer's presence writer belongs to, and who is alive
+  // presence: which robot each peer's presence writer belongs to, and who is alive; the robot
+  // id each participant announced at discovery (the first participant to announce an id
+  // keeps it while it is in the domain)
   mutable std::mutex peers_mutex;
+  std::map<rtps::GuidPrefix_t, uint32_t> robot_of_participant;
+  std::map<uint32_t, rtps::GuidPrefix_t> participant_of_robot;
   std::map<fdds::InstanceHandle_t, uint32_t> robot_of_writer;
   std::set<uint32_t> alive;
   std::set<uint32_t> lost;
@@ -103,6 +109,39 @@ struct DdsLink::Impl {
     if (t == nullptr) return make_unexpected("cannot create the DDS topic '" + name + "'");
     topics.emplace(name, t);
     return t;
+  }
+
+  // The robot id the participant announced, kUnknownSender if none (or not its own).
+  uint32_t sender(const rtps::GuidPrefix_t& participant) const {
+    std::lock_guard lock(peers_mutex);
+    const auto it = robot_of_participant.find(participant);
+    return it == robot_of_participant.end() ? kUnknownSender : it->second;
+  }
+
+  void participant_discovered(const rtps::GuidPrefix_t& participant,
+                              const std::vector<uint8_t>& user_data) {
+    const auto robot_id = robot_of_user_data(user_data);
+    if (!robot_id) return;  // not a bridge (a tool, a foreign application)
+    std::string warning;
+    {
+      std::lock_guard lock(peers_mutex);
+      const auto [it, added] = participant_of_robot.emplace(*robot_id, participant);
+      if (added || it->second == participant) {
+        robot_of_participant[participant] = *robot_id;
+      } else {
+        warning = "a second DDS participant announces robot " + std::to_string(*robot_id) +
+                  " while the first is in the domain: its samples are refused";
+      }
+    }
+    if (!warning.empty() && callbacks.on_warning) callbacks.on_warning(warning);
+  }
+
+  void participant_left(const rtps::GuidPrefix_t& participant) {
+    std::lock_guard lock(peers_mutex);
+    const auto it = robot_of_participant.find(participant);
+    if (it == robot_of_participant.end()) return;
+    participant_of_robot.erase(it->second);
+    robot_of_participant.erase(it);
   }
 
   void peer_seen(const fdds::InstanceHandle_t& writer, uint32_t robot_id) {
@@ -146,6 +185,28 @@ struct DdsLink::Impl {
 
 namespace {
 
+// Discovery: binds each bridge participant's GUID to the robot id it announces.
+class ParticipantListener final : public fdds::DomainParticipantListener {
+ public:
+  explicit ParticipantListener(DdsLink::Impl* impl) : impl_(impl) {}
+
+  void on_participant_discovery(fdds::DomainParticipant* /*participant*/,
+                                rtps::ParticipantDiscoveryInfo&& info) override {
+    using Status = rtps::ParticipantDiscoveryInfo::DISCOVERY_STATUS;
+    const rtps::GuidPrefix_t& prefix = info.info.m_guid.guidPrefix;
+    impl_->guarded([&] {
+      if (info.status == Status::DISCOVERED_PARTICIPANT ||
+          info.status == Status::CHANGED_QOS_PARTICIPANT)
+        impl_->participant_discovered(prefix, info.info.m_userData.data_vec());
+      else
+        impl_->participant_left(prefix);
+    });
+  }
+
+ private:
+  DdsLink::Impl* impl_;
+};
+
 class DataListener final : public fdds::DataReaderListener {
  public:
   DataListener(DdsLink::Impl* impl, size_t index, std::string topic)
@@ -158,8 +219,9 @@ class DataListener final : public fdds::DataReaderListener {
       while (reader->take_next_sample(&envelope, &info) == ReturnCode_t::RETCODE_OK) {
         if (!info.valid_data) continue;
         const size_t bytes = scancrew::dds::Envelope::getCdrSerializedSize(envelope) + 4;
-        if (impl_->callbacks.on_sample)
-          impl_->callbacks.on_sample(index_, from_dds(std::move(envelope)), bytes);
+        WireEnvelope wire = from_dds(std::move(envelope));
+        wire.sender_robot_id = impl_->sender(info.sample_identity.writer_guid().guidPrefix);
+        if (impl_->callbacks.on_sample) impl_->callbacks.on_sample(index_, std::move(wire), bytes);
         envelope = scancrew::dds::Envelope{};
       }
     });
@@ -186,8 +248,11 @@ class PresenceListener final : public fdds::DataReaderListener {
     impl_->guarded([&] {
       scancrew::dds::Envelope envelope;
       fdds::SampleInfo info;
+      // a presence counts from the participant that announced the robot only (a forged one
+      // could report a teammate lost or alive)
       while (reader->take_next_sample(&envelope, &info) == ReturnCode_t::RETCODE_OK)
-        if (info.valid_data && envelope.type_name() == kPresenceType)
+        if (info.valid_data && envelope.type_name() == kPresenceType &&
+            impl_->sender(info.sample_identity.writer_guid().guidPrefix) == envelope.robot_id())
           impl_->peer_seen(info.publication_handle, envelope.robot_id());
     });
   }
@@ -228,8 +293,9 @@ fdds::DataWriterQos writer_qos(fdds::Publisher* publisher, const DdsTopicQos& qo
       qos.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
   w.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
   w.history().depth = static_cast<int32_t>(qos.depth);
-  // large samples (patches) are fragmented; writes never block the executor thread
-  w.publish_mode().kind = fdds::SYNCHRONOUS_PUBLISH_MODE;
+  // large samples (patches) are fragmented and sent by Fast DDS's own thread: a write on the
+  // executor thread only queues (the synchronous mode sent a whole patch from it)
+  w.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
   w.data_sharing().off();
   return w;
 }
@@ -277,6 +343,7 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
 
   fdds::DomainParticipantQos pqos;
   pqos.name(config.participant_name.c_str());
+  pqos.user_data().data_vec(participant_user_data(config.robot_id));
   const std::string& t = config.transport;
   if (t != "builtin") pqos.transport().use_builtin_transports = false;
   if (t == "loopback") {
@@ -305,7 +372,10 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
     eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(library);
   }
   auto* factory = fdds::DomainParticipantFactory::get_instance();
-  impl->participant = factory->create_participant(config.domain_id, pqos);
+  impl->participant_listener = std::make_unique<ParticipantListener>(impl.get());
+  // discovery callbacks only: the readers' own listeners take their data
+  impl->participant = factory->create_participant(
+      config.domain_id, pqos, impl->participant_listener.get(), fdds::StatusMask::none());
   if (impl->participant == nullptr)
     return make_unexpected("cannot create a DDS participant on domain " +
                            std::to_string(config.domain_id) + " (transport " + t + ")");
@@ -419,6 +489,7 @@ void DdsLink::close() {
   m.closing.store(true, std::memory_order_release);
   { std::unique_lock wait_for_callbacks(m.callback_mutex); }
   for (fdds::DataReader* r : m.readers) r->set_listener(nullptr);
+  m.participant->set_listener(nullptr);
   if (m.presence_reader != nullptr) m.presence_reader->set_listener(nullptr);
   m.participant->delete_contained_entities();
   fdds::DomainParticipantFactory::get_instance()->delete_participant(m.participant);

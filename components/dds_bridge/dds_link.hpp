@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -53,10 +54,13 @@ struct DdsLinkConfig {
   // process (tests) talk over the configured transport as separate processes would.
   bool intraprocess = true;
   std::string participant_name;
-  uint32_t robot_id = 0;  // written in the presence sample
+  uint32_t robot_id = 0;  // announced at discovery and written in the presence sample
 };
 
 // An envelope as it travels (fields of idl/envelope.idl).
+// A received envelope's sender_robot_id when its participant announced no robot id.
+inline constexpr uint32_t kUnknownSender = 0xffffffffu;
+
 struct WireEnvelope {
   uint32_t format_version = 0;
   uint32_t robot_id = 0;
@@ -64,14 +68,26 @@ struct WireEnvelope {
   int64_t stamp_ns = 0;
   std::string type_name;
   std::vector<uint8_t> payload;
+  // Received only (not on the wire): the robot id that the sending participant announced at
+  // discovery (its user data, participant_user_data()), kUnknownSender if none or if another
+  // participant in the domain had announced that id first. check_envelope() refuses an
+  // envelope whose robot_id is not this one.
+  uint32_t sender_robot_id = kUnknownSender;
 };
+
+// A bridge participant's user data: who it is, announced at discovery (before any of its
+// endpoints match), so that a sample is tied to its sending participant's GUID.
+std::vector<uint8_t> participant_user_data(uint32_t robot_id);
+// The robot id of a participant's user data; nullopt if it is not a bridge's.
+std::optional<uint32_t> robot_of_user_data(const std::vector<uint8_t>& user_data);
 
 class DdsLink {
  public:
   struct Callbacks {
     // A sample taken from reader `reader` (index from add_reader); wire_bytes is its CDR size.
     std::function<void(size_t reader, WireEnvelope&& envelope, size_t wire_bytes)> on_sample;
-    // A peer robot lost (alive = false) or back (alive = true); `why` says how.
+    // A peer robot lost (alive = false) or back (alive = true); `why` says how. Presence
+    // counts only from the participant that announced the robot at discovery.
     std::function<void(uint32_t robot_id, bool alive, std::string_view why)> on_peer;
     // A problem worth one log line (incompatible QoS, a sample DDS could not read).
     std::function<void(const std::string& message)> on_warning;

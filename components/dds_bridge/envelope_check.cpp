@@ -6,6 +6,31 @@
 
 namespace scancrew::dds_bridge {
 
+namespace {
+
+constexpr std::string_view kUserDataTag = "scancrew robot ";
+
+}  // namespace
+
+std::vector<uint8_t> participant_user_data(uint32_t robot_id) {
+  const std::string text = std::string(kUserDataTag) + std::to_string(robot_id);
+  return {text.begin(), text.end()};
+}
+
+std::optional<uint32_t> robot_of_user_data(const std::vector<uint8_t>& user_data) {
+  const std::string text(user_data.begin(), user_data.end());
+  if (!text.starts_with(kUserDataTag) || text.size() > kUserDataTag.size() + 10) return {};
+  uint64_t id = 0;
+  const std::string digits = text.substr(kUserDataTag.size());
+  if (digits.empty()) return {};
+  for (const char c : digits) {
+    if (c < '0' || c > '9') return {};
+    id = id * 10 + static_cast<uint64_t>(c - '0');
+  }
+  if (id >= kUnknownSender) return {};
+  return static_cast<uint32_t>(id);
+}
+
 bool in_team(const EnvelopeRules& rules, uint32_t robot_id) {
   return rules.team.empty() ||
          std::find(rules.team.begin(), rules.team.end(), robot_id) != rules.team.end();
@@ -25,6 +50,13 @@ std::optional<Reject> check_envelope(const WireEnvelope& envelope, std::string_v
   if (!in_team(rules, envelope.robot_id))
     return say(Reject::kUnknownRobot,
                "robot id " + std::to_string(envelope.robot_id) + " is not in the team");
+  // the sending participant must be the one that announced this robot id at discovery
+  if (envelope.sender_robot_id != envelope.robot_id)
+    return say(Reject::kForgedSender,
+               "robot id " + std::to_string(envelope.robot_id) + " from a participant that " +
+                   (envelope.sender_robot_id == kUnknownSender
+                        ? std::string("announced no robot (or one another participant holds)")
+                        : "announced robot " + std::to_string(envelope.sender_robot_id)));
   // type names come from the network: only known names are echoed in full
   if (!msg::with_wire_message(envelope.type_name, []<class T>() {}))
     return say(Reject::kUnknownType,

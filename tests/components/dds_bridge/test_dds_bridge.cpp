@@ -25,6 +25,7 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -500,9 +501,11 @@ TEST(DdsBridge, BadPlaceholdersAndLoopsFailAtStart) {
 // hostile peer of the bad-input test.
 class RawPeer {
  public:
-  RawPeer() {
+  // announces robot `announce` at discovery, as a bridge does (none: nullopt)
+  explicit RawPeer(std::optional<uint32_t> announce = 3) {
     fdds::DomainParticipantQos pqos;
     pqos.name("scancrew_test_raw_peer");
+    if (announce) pqos.user_data().data_vec(participant_user_data(*announce));
     pqos.transport().use_builtin_transports = false;
     auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
     udp->interfaceWhiteList.emplace_back("127.0.0.1");
@@ -633,6 +636,45 @@ TEST(DdsBridge, BadEnvelopesAreRejectedAndCountedWhileGoodSamplesFlow) {
   ASSERT_TRUE(r1.source().send_state(99));
   ASSERT_TRUE(wait_until([&] { return r2.sink().count(r2.sink().states) == 11; }));
   EXPECT_EQ(counters(r1.bridge().stats(), "robot_state", false).rejected_total(), 9u);
+}
+
+// Nothing tied an envelope's robot id to its sender: any participant could send as any robot.
+// A participant that announced robot 3 sends as robot 1, and one that announces robot 1 while
+// robot 1's bridge is in the domain, and one that announces nothing: all refused, counted as
+// forged; robot 3's own samples flow.
+TEST(DdsBridge, AnEnvelopeFromAParticipantThatDidNotAnnounceItsRobotIsRefused) {
+  Robot r1(1, "", "[robot_state]");
+  Robot r2(2, "", "[robot_state]");
+  wait_ready({&r1, &r2}, 2, {"robot_state"});
+  RawPeer as3(3), second1(1), anonymous(std::nullopt);
+  for (RawPeer* p : {&as3, &second1, &anonymous})
+    ASSERT_TRUE(wait_until([&] { return p->matched() >= 2; }));
+  ASSERT_TRUE(wait_until([&] { return r2.bridge().matched("robot_state", false) >= 4; }));
+
+  const uint32_t v = msg::kMessageFormatVersion;
+  const std::string type = msg::RobotState::kTypeName;
+  ASSERT_TRUE(as3.write(v, 1, 1000, type, state_bytes(1, 1000)));        // robot 3 as robot 1
+  ASSERT_TRUE(second1.write(v, 1, 1001, type, state_bytes(1, 1001)));    // a second robot 1
+  ASSERT_TRUE(anonymous.write(v, 1, 1002, type, state_bytes(1, 1002)));  // no announcement
+  ASSERT_TRUE(as3.write(v, 3, 1, type, state_bytes(3, 7)));              // robot 3 as itself
+  ASSERT_TRUE(r1.source().send_state(1));                                // robot 1's own
+
+  const auto done = [&] {
+    const TopicCounters c = counters(r2.bridge().stats(), "robot_state", false);
+    return c.delivered == 2 && c.rejected_total() == 3;
+  };
+  ASSERT_TRUE(wait_until(done)) << "delivered "
+                                << counters(r2.bridge().stats(), "robot_state", false).delivered;
+  const TopicCounters c = counters(r2.bridge().stats(), "robot_state", false);
+  EXPECT_EQ(c.rejected[static_cast<size_t>(Reject::kForgedSender)], 3u);
+  // robot 1's real samples still flow after the forgeries (its sequence was not advanced)
+  ASSERT_TRUE(r1.source().send_state(2));
+  ASSERT_TRUE(wait_until([&] { return r2.sink().count(r2.sink().states) == 3; }));
+  std::map<uint32_t, std::vector<uint32_t>> by_robot;
+  for (const auto& st : r2.sink().copy(r2.sink().states))
+    by_robot[st.header.robot_id].push_back(st.path_index);
+  EXPECT_EQ(by_robot[1], (std::vector<uint32_t>{1, 2}));
+  EXPECT_EQ(by_robot[3], (std::vector<uint32_t>{7}));
 }
 
 TEST(DdsBridge, ADestroyedTeammateIsReportedLost) {

@@ -125,6 +125,7 @@ WireEnvelope good_state() {
   WireEnvelope e;
   e.format_version = msg::kMessageFormatVersion;
   e.robot_id = 1;
+  e.sender_robot_id = 1;  // its participant announced robot 1 at discovery
   e.seq = 1;
   e.type_name = msg::RobotState::kTypeName;
   e.payload = msg::encode(state);
@@ -146,6 +147,14 @@ TEST(EnvelopeCheck, AcceptsAGoodEnvelopeAndNamesEachRejection) {
   e.robot_id = 9;
   EXPECT_EQ(check_envelope(e, type, rules, &detail), Reject::kUnknownRobot);
 
+  // a participant that announced robot 2 (or none) sends as robot 1
+  e = good_state();
+  e.sender_robot_id = 2;
+  EXPECT_EQ(check_envelope(e, type, rules, &detail), Reject::kForgedSender);
+  EXPECT_NE(detail.find("announced robot 2"), std::string::npos) << detail;
+  e.sender_robot_id = kUnknownSender;
+  EXPECT_EQ(check_envelope(e, type, rules, &detail), Reject::kForgedSender);
+
   e = good_state();
   e.type_name = "scancrew/NoSuchThing" + std::string(1000, 'x');
   EXPECT_EQ(check_envelope(e, type, rules, &detail), Reject::kUnknownType);
@@ -162,7 +171,20 @@ TEST(EnvelopeCheck, AcceptsAGoodEnvelopeAndNamesEachRejection) {
   rules.team.clear();  // anyone
   e = good_state();
   e.robot_id = 77;
+  e.sender_robot_id = 77;
   EXPECT_EQ(check_envelope(e, type, rules, &detail), std::nullopt);
+}
+
+TEST(EnvelopeCheck, ParticipantUserDataNamesOnlyABridgesRobot) {
+  EXPECT_EQ(robot_of_user_data(participant_user_data(7)), 7u);
+  EXPECT_EQ(robot_of_user_data(participant_user_data(0)), 0u);
+  const auto text = [](const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); };
+  EXPECT_EQ(robot_of_user_data({}), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(text("scancrew robot ")), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(text("scancrew robot 1x")), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(text("scancrew robot 4294967295")), std::nullopt);  // kUnknownSender
+  EXPECT_EQ(robot_of_user_data(text("scancrew robot 99999999999")), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(text("another application")), std::nullopt);
 }
 
 }  // namespace
