@@ -27,8 +27,8 @@ PACKAGES=(
   # paths), FCL collision checks against the OctoMap octree; ViSP visual-servoing tracker
   libompl-dev libboost-serialization-dev libboost-filesystem-dev libboost-system-dev
   libfcl-dev libvisp-dev
-  # style checks run in CI
-  clang-format clang-tidy
+  # style checks run in CI; the fuzzers (clang's libFuzzer, scripts/fuzz.sh)
+  clang-format clang-tidy clang libclang-rt-14-dev
 )
 
 missing=()
