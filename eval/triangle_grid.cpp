@@ -44,10 +44,8 @@ Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3&
   return {q.x, q.y, q.z};
 }
 
-template <class F>
-void TriangleGrid::for_each_cell(size_t t, F&& f) const {
-  // the radius grown a little so that rounding cannot drop a cell at exactly r
-  const double reach = radius_m_ * (1 + 1e-6) + 1e-9;
+std::pair<std::array<int64_t, 3>, std::array<int64_t, 3>> TriangleGrid::cell_box(size_t t) const {
+  const double reach = this->reach();
   const auto& c = corners_[t];
   std::array<int64_t, 3> first{}, last{};
   for (int k = 0; k < 3; ++k) {
@@ -60,6 +58,14 @@ void TriangleGrid::for_each_cell(size_t t, F&& f) const {
     first[k] = cell(lo);
     last[k] = cell(hi);
   }
+  return {first, last};
+}
+
+template <class F>
+void TriangleGrid::for_each_cell(size_t t, F&& f) const {
+  const double reach = this->reach();
+  const auto& c = corners_[t];
+  const auto [first, last] = cell_box(t);
   // a triangle whose box spans many cells (a large wall) lists only the cells whose centre is
   // within reach + half a cell diagonal of it: any point within r of it lies in one of them
   const int64_t spanned =
@@ -81,7 +87,8 @@ void TriangleGrid::for_each_cell(size_t t, F&& f) const {
 }
 
 Result<TriangleGrid, std::string> TriangleGrid::build(const sim::TriangleMesh& mesh,
-                                                      double radius_m, size_t max_cells) {
+                                                      double radius_m, size_t max_cells,
+                                                      uint64_t max_cell_visits) {
   if (!(radius_m > 0) || !std::isfinite(radius_m))
     return make_unexpected("the search radius must be positive and finite, not " +
                            std::to_string(radius_m));
@@ -136,6 +143,22 @@ Result<TriangleGrid, std::string> TriangleGrid::build(const sim::TriangleMesh& m
     g.cell_m_ *= 1.05;
   }
   const auto cells = static_cast<size_t>(g.dims_[0] * g.dims_[1] * g.dims_[2]);
+
+  // the build visits every cell of each triangle's box: bounded before it starts (20,000
+  // triangles that each spanned the scene, a 1 MB file, took 150 s); a reconstruction's
+  // triangles are a voxel or two, a few cells each
+  uint64_t visits = 0;
+  for (size_t t = 0; t < n && visits <= max_cell_visits; ++t) {
+    const auto [first, last] = g.cell_box(t);
+    visits += static_cast<uint64_t>((last[0] - first[0] + 1) * (last[1] - first[1] + 1) *
+                                    (last[2] - first[2] + 1));
+  }
+  if (visits > max_cell_visits)
+    return make_unexpected("the mesh's " + std::to_string(n) + " triangles span more than " +
+                           std::to_string(max_cell_visits) + " cells of " +
+                           std::to_string(g.cell_m_) +
+                           " m: triangles far larger than the search radius " +
+                           std::to_string(radius_m) + " m (not a reconstruction at this scale)");
 
   // triangles renumbered in the order of the cells holding their first corners: the triangles
   // one query tests then lie close together in memory (3x faster on a shuffled mesh)

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "executors/result.hpp"
@@ -41,12 +42,17 @@ struct NearestPoint {
 class TriangleGrid {
  public:
   static constexpr size_t kDefaultMaxCells = size_t{1} << 24U;  // 64 MB of cell offsets
+  // the build's work: the cells of the triangles' boxes, summed (about a second)
+  static constexpr uint64_t kDefaultMaxCellVisits = uint64_t{1} << 28U;
 
   // The mesh's vertices must be finite and its indices in range (reconstruction_error()
   // checks both). An empty mesh gives a grid that finds nothing. Fails when radius_m is not
-  // positive and finite, or when the grid would hold more than 2^32 entries.
+  // positive and finite, when the triangles' boxes span more than max_cell_visits cells (so the
+  // cost is bounded whatever the file holds), or when the grid would hold more than 2^32
+  // entries.
   static Result<TriangleGrid, std::string> build(const sim::TriangleMesh& mesh, double radius_m,
-                                                 size_t max_cells = kDefaultMaxCells);
+                                                 size_t max_cells = kDefaultMaxCells,
+                                                 uint64_t max_cell_visits = kDefaultMaxCellVisits);
 
   // The nearest point of the mesh at most radius_m from p, if any.
   std::optional<NearestPoint> nearest(const Point3& p) const;
@@ -62,6 +68,10 @@ class TriangleGrid {
   // Calls f(cell index) for every cell listing triangle t, in the same order every time.
   template <class F>
   void for_each_cell(size_t t, F&& f) const;
+  // The first and last cells (per axis) of triangle t's box grown by reach().
+  std::pair<std::array<int64_t, 3>, std::array<int64_t, 3>> cell_box(size_t t) const;
+  // the radius grown a little so that rounding cannot drop a cell at exactly r
+  double reach() const { return radius_m_ * (1 + 1e-6) + 1e-9; }
 
   double radius_m_ = 0;
   double cell_m_ = 0;

@@ -105,6 +105,23 @@ TEST(TriangleGrid, UsesCellsTwiceTheRadiusUnlessThatMakesTooMany) {
   EXPECT_LE(coarse->cells(), 1000u);
 }
 
+// 20,000 triangles that each spanned the whole scene (a 1 MB PLY) took 150 s in scancrew eval:
+// the build's work is bounded before it starts.
+TEST(TriangleGrid, TrianglesFarLargerThanTheRadiusAreRefusedBeforeTheWork) {
+  sim::TriangleMesh mesh;
+  mesh.vertices = {{-50, -50, 0},  {50, -50, 0}, {0, 50, 0},
+                   {-50, -50, 20}, {50, 50, 20}, {0, 50, 1}};
+  for (int i = 0; i < 20000; ++i) mesh.triangles.push_back({0u, 1u, 2u});
+  mesh.triangles.push_back({3u, 4u, 5u});
+  const auto grid = TriangleGrid::build(mesh, 0.1);  // (before: minutes; the test's timeout)
+  ASSERT_FALSE(grid);
+  EXPECT_NE(grid.error().find("far larger than the search radius"), std::string::npos)
+      << grid.error();
+  // the same triangles at a radius of their own scale are fine
+  mesh.triangles.resize(2);
+  EXPECT_TRUE(TriangleGrid::build(mesh, 5.0));
+}
+
 TEST(TriangleGrid, AnEmptyMeshFindsNothingAndABadRadiusIsRefused) {
   const auto empty = TriangleGrid::build({}, 0.1);
   ASSERT_TRUE(empty);
