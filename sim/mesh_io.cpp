@@ -57,6 +57,10 @@ bool mesh_format_supported(const std::string& extension) {
 Result<TriangleMesh, std::string> load_mesh(const std::string& path) {
   if (!std::filesystem::exists(path))
     return make_unexpected("mesh file '" + path + "' does not exist");
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    return make_unexpected("mesh file '" + path +
+                           "' is not a regular file (a device, a pipe or a folder)");
   Assimp::Importer importer;
   // scenes are z-up like the COLLADA models we ship; keep the file's axes
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
@@ -73,11 +77,23 @@ Result<TriangleMesh, std::string> load_mesh(const std::string& path) {
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* in = scene->mMeshes[m];
     const auto base = static_cast<uint32_t>(mesh.vertices.size());
-    for (unsigned v = 0; v < in->mNumVertices; ++v)
-      mesh.vertices.push_back({in->mVertices[v].x, in->mVertices[v].y, in->mVertices[v].z});
+    for (unsigned v = 0; v < in->mNumVertices; ++v) {
+      const aiVector3D& p = in->mVertices[v];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        return make_unexpected("mesh file '" + path + "': vertex " + std::to_string(v) +
+                               " of mesh " + std::to_string(m) + " is not finite");
+      mesh.vertices.push_back({p.x, p.y, p.z});
+    }
     for (unsigned f = 0; f < in->mNumFaces; ++f) {
       const aiFace& face = in->mFaces[f];
       if (face.mNumIndices != 3) continue;
+      // the importer's indices are the file's: checked before they index the vertices
+      for (unsigned i = 0; i < 3; ++i)
+        if (face.mIndices[i] >= in->mNumVertices)
+          return make_unexpected("mesh file '" + path + "': face " + std::to_string(f) +
+                                 " of mesh " + std::to_string(m) + " refers to vertex " +
+                                 std::to_string(face.mIndices[i]) + " of " +
+                                 std::to_string(in->mNumVertices));
       mesh.triangles.push_back(
           {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
     }

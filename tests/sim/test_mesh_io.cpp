@@ -95,6 +95,21 @@ TEST_F(MeshIo, BadFilesAreErrorsNamingTheFile) {
   auto flat = load_mesh(write("flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
   ASSERT_FALSE(flat);
   EXPECT_NE(flat.error().find("flat or degenerate"), std::string::npos) << flat.error();
+  // a device or a folder is no mesh (Assimp would read /dev/zero for ever)
+  auto device = load_mesh("/dev/zero");
+  ASSERT_FALSE(device);
+  EXPECT_NE(device.error().find("not a regular file"), std::string::npos) << device.error();
+  // a face that names a vertex the file does not have: an error, or (if the importer drops
+  // the face itself) a mesh whose every index is in range
+  auto beyond = load_mesh(write("beyond.obj",
+                                "v 0 0 0\nv 1 0 0\nv 0 1 1\nv 1 1 1\n"
+                                "f 1 2 3\nf 2 3 4\nf 1 2 9\n"));
+  if (beyond) {
+    for (const auto& t : beyond->triangles)
+      for (const uint32_t i : t) EXPECT_LT(i, beyond->vertices.size());
+  } else {
+    EXPECT_NE(beyond.error().find("beyond.obj"), std::string::npos) << beyond.error();
+  }
   EXPECT_TRUE(mesh_format_supported(".dae"));
   EXPECT_TRUE(mesh_format_supported(".stl"));
   EXPECT_FALSE(mesh_format_supported(".xyz123"));
