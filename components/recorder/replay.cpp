@@ -93,6 +93,10 @@ void Replay::tick() {
       }
       if (!*next) {
         finished_ = true;
+        // messages that did not decode were skipped: the replay is not whole (exit 4)
+        if (decode_errors_ > 0)
+          report_failure(std::to_string(decode_errors_) + " message(s) of " + config_.path +
+                         " did not decode and were skipped");
         SCANCREW_LOG_INFO(
             "%s: replay of %s done: %llu messages%s", qualified_name().c_str(),
             config_.path.c_str(), static_cast<unsigned long long>(published_),

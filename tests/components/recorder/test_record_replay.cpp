@@ -232,5 +232,32 @@ TEST_F(RecordReplay, AReplayStoppedShortSaysWhere) {
       << err;
 }
 
+// A message that did not decode was skipped and counted, and the run looked whole (exit 0);
+// the replay now reports it as lost data (scancrew run exits 4).
+TEST_F(RecordReplay, MessagesThatDoNotDecodeAreReportedAsLost) {
+  {
+    auto writer = LogWriter::open(log_);
+    ASSERT_TRUE(writer) << writer.error();
+    const uint16_t t = writer->add_topic({"/r1/imu", "scancrew/Imu"});
+    std::vector<uint8_t> imu = msg::encode(msg::Imu{});
+    ASSERT_TRUE(writer->write(t, 1'000, imu));
+    imu.push_back(0);  // a trailing byte: not an Imu
+    ASSERT_TRUE(writer->write(t, 2'000, imu));
+    ASSERT_TRUE(writer->flush());
+  }
+  auto launch = Launch::from_string(replay_launch(), "replay.yaml");
+  ASSERT_TRUE(launch) << launch.error().front();
+  ::testing::internal::CaptureStderr();
+  (*launch)->run();
+  (void)::testing::internal::GetCapturedStderr();
+  auto* replay = (*launch)->find_component<Replay>();
+  ASSERT_NE(replay, nullptr);
+  EXPECT_TRUE(replay->finished());
+  EXPECT_EQ(replay->decode_errors(), 1U);
+  const auto failures = (*launch)->graph().failures();
+  ASSERT_EQ(failures.size(), 1U);
+  EXPECT_NE(failures.front().find("1 message(s)"), std::string::npos) << failures.front();
+}
+
 }  // namespace
 }  // namespace scancrew::recorder
