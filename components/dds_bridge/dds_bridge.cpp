@@ -51,29 +51,37 @@ Result<void, std::string> DdsBridge::on_configure() {
       on_sync(std::move(envelope));
       return;
     }
-    // checked before queueing: a payload over max_sample_bytes is not kept (the envelope is,
-    // to be counted); the lockstep's marks count a sample only from the participant that
-    // announced its robot, in the team
-    const bool oversize = envelope.payload.size() > config_.max_sample_bytes;
-    if (oversize) envelope.payload = {};
-    if (!oversize && envelope.sender_robot_id == envelope.robot_id &&
-        in_team(rules_, envelope.robot_id)) {
+    // checked before queueing: a sample over max_sample_bytes (its payload, or a type name
+    // longer than any wire type's) is not kept, its envelope is, to be counted; the lockstep's
+    // receive marks count a sample only from the participant that announced its robot, in
+    // the team (received, whether or not it is then accepted)
+    const bool oversize =
+        envelope.payload.size() > config_.max_sample_bytes || envelope.type_name.size() > 256;
+    if (oversize) {
+      envelope.payload = {};
+      envelope.type_name.clear();
+    }
+    if (envelope.sender_robot_id == envelope.robot_id && in_team(rules_, envelope.robot_id)) {
       const std::lock_guard lock(sync_mutex_);
       uint64_t& max = received_max_[{envelope.robot_id, reader}];
       max = std::max(max, envelope.seq);
       sync_cv_.notify_all();
     }
     Incoming in{reader, std::move(envelope), bytes, clock().now_ns(), oversize};
+    const size_t kept = oversize ? 0 : bytes;
     std::lock_guard lock(inbox_mutex_);
-    // bounded in samples and in bytes: the oldest go first
-    while (!inbox_.empty() &&
-           (inbox_.size() >= config_.inbox_samples ||
-            inbox_payload_bytes_ + in.envelope.payload.size() > config_.inbox_bytes)) {
+    if (kept > config_.inbox_bytes) {  // larger than the whole inbox: dropped, counted
+      ++inbox_drops_[in.topic];
+      return;
+    }
+    // bounded in samples and in bytes (as received): the oldest go first
+    while (!inbox_.empty() && (inbox_.size() >= config_.inbox_samples ||
+                               inbox_wire_bytes_ + kept > config_.inbox_bytes)) {
       ++inbox_drops_[inbox_.front().topic];
-      inbox_payload_bytes_ -= inbox_.front().envelope.payload.size();
+      inbox_wire_bytes_ -= inbox_.front().oversize ? 0 : inbox_.front().wire_bytes;
       inbox_.pop_front();
     }
-    inbox_payload_bytes_ += in.envelope.payload.size();
+    inbox_wire_bytes_ += kept;
     inbox_.push_back(std::move(in));
     ++taken_;
   };
@@ -293,7 +301,7 @@ void DdsBridge::tick() {
     drained_.insert(drained_.end(), std::make_move_iterator(inbox_.begin()),
                     std::make_move_iterator(inbox_.end()));
     inbox_.clear();
-    inbox_payload_bytes_ = 0;
+    inbox_wire_bytes_ = 0;
     events.swap(peer_events_);
   }
   if (!held_.empty()) {  // lockstep: samples held back until their step released them

@@ -83,7 +83,7 @@ class DdsBridge final : public Component {
     std::vector<uint32_t> team_ids;           // senders accepted; empty: the launch's robots + 0
     uint64_t max_sample_bytes = 64ULL << 20;  // a larger payload is refused (both ways)
     uint32_t inbox_samples = 4096;            // DDS -> executor queue; overflow drops oldest
-    uint64_t inbox_bytes = 256ULL << 20;      // and its payloads' bytes (overflow drops oldest)
+    uint64_t inbox_bytes = 256ULL << 20;      // and its samples' bytes (overflow drops oldest)
     double poll_period_s = 0.002;             // how often imports are delivered
     double liveliness_lease_s = 2.0;          // a silent peer is reported lost after this
     // the id in this bridge's envelopes; -1: its robot's id (0 for a station)
@@ -117,7 +117,7 @@ class DdsBridge final : public Component {
     WireEnvelope envelope;
     size_t wire_bytes = 0;
     int64_t arrival_ns = 0;
-    bool oversize = false;  // its payload (over max_sample_bytes) was not kept
+    bool oversize = false;  // over max_sample_bytes: its payload and type name were not kept
   };
   struct Pending {  // admitted by the link model, waiting for its delivery time
     int64_t deliver_at_ns = 0;
@@ -186,7 +186,7 @@ class DdsBridge final : public Component {
   // DDS threads -> executor thread
   mutable std::mutex inbox_mutex_;
   std::deque<Incoming> inbox_;
-  uint64_t inbox_payload_bytes_ = 0;
+  uint64_t inbox_wire_bytes_ = 0;  // of the samples kept in inbox_
   std::vector<PeerEvent> peer_events_;
   std::map<size_t, uint64_t> inbox_drops_;  // per DDS reader
   uint64_t taken_ = 0;

@@ -80,7 +80,7 @@ void read_topic_params(ParamReader& p, BridgedTopic& t) {
 // A list of robot ids (whole numbers).
 void read_robot_ids(ParamReader& p, const char* key, std::vector<uint32_t>& out) {
   std::vector<double> ids;
-  p.optional_list(key, ids, 0, {0, 4294967295.0});
+  p.optional_list(key, ids, 0, {0, 4294967294.0});
   for (const double id : ids) {
     if (id != std::floor(id)) p.report(key, "robot ids are whole numbers");
     out.push_back(static_cast<uint32_t>(id));
@@ -121,8 +121,9 @@ DdsBridge::Config DdsBridge::read_config(ParamReader& p) {
   p.optional("inbox_bytes", c.inbox_bytes, {1024, 1e12});
   p.optional("poll_period_s", c.poll_period_s, {1e-4, 1.0});
   p.optional("liveliness_lease_s", c.liveliness_lease_s, {0.1, 3600});
-  p.optional("bridge_id", c.bridge_id, {-1, 4294967295.0});
-  p.optional("simulator_id", c.simulator_id, {1, 4294967295.0});
+  // 4294967295 is kUnknownSender (a participant that announced no id)
+  p.optional("bridge_id", c.bridge_id, {-1, 4294967294.0});
+  p.optional("simulator_id", c.simulator_id, {1, 4294967294.0});
   p.choice("lockstep", c.lockstep, {"none", "leader", "follower"});
   read_robot_ids(p, "lockstep_followers", c.lockstep_followers);
   p.optional("lockstep_timeout_s", c.lockstep_timeout_s, {0.1, 86400});

@@ -267,9 +267,10 @@ void DdsBridge::on_sync(WireEnvelope&& envelope) {
   // only from the participant that announced that bridge id, in the team (a forged stop or
   // step would end or run every follower)
   if (envelope.sender_robot_id != envelope.robot_id || !in_team(rules_, envelope.robot_id)) {
-    warn_once("lockstep: a sample on " + std::string(kSyncTopic) + " claiming bridge " +
-              std::to_string(envelope.robot_id) +
-              " from a participant that did not announce it (or not in the team); ignored");
+    // (one message whatever the claimed id: a forger picks the ids)
+    warn_once("lockstep: a sample on " + std::string(kSyncTopic) +
+              " from a participant that did not announce its bridge id, or from a bridge not "
+              "in the team: ignored");
     return;
   }
   msg::StepSync sync;
@@ -291,6 +292,11 @@ bool DdsBridge::held_back(Incoming& in) {
   in.arrival_ns = clock().now_ns();
   const TopicState& t = topics_[topic_of_reader_.at(in.topic)];
   if (!t.spec.qos.reliable || in.envelope.robot_id == self_id_) return false;
+  // a sample whose sender or robot id is refused is not held (it would wait for a release
+  // that never comes, for ever): admit() counts and drops it now
+  if (in.oversize || in.envelope.sender_robot_id != in.envelope.robot_id ||
+      !in_team(rules_, in.envelope.robot_id))
+    return false;
   const auto it = released_.find({in.envelope.robot_id, t.topic_key});
   return it == released_.end() || in.envelope.seq > it->second;
 }

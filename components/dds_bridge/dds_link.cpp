@@ -5,6 +5,7 @@
 #include <fastrtps/utils/IPLocator.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -19,6 +20,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <shared_mutex>
 
@@ -90,8 +92,10 @@ struct DdsLink::Impl {
   // id each participant announced at discovery (the first participant to announce an id
   // keeps it while it is in the domain)
   mutable std::mutex peers_mutex;
-  std::map<rtps::GuidPrefix_t, uint32_t> robot_of_participant;
-  std::map<uint32_t, rtps::GuidPrefix_t> participant_of_robot;
+  std::map<rtps::GuidPrefix_t, uint32_t> claimed_by;  // the id each participant announced
+  // per id, the participants that announced it, in order: the first holds it
+  std::map<uint32_t, std::vector<rtps::GuidPrefix_t>> claimants;
+  std::map<rtps::GuidPrefix_t, fdds::InstanceHandle_t> pending_presence;
   std::map<fdds::InstanceHandle_t, uint32_t> robot_of_writer;
   std::set<uint32_t> alive;
   std::set<uint32_t> lost;
@@ -111,37 +115,92 @@ struct DdsLink::Impl {
     return t;
   }
 
-  // The robot id the participant announced, kUnknownSender if none (or not its own).
+  // The robot id the participant announced, kUnknownSender if none or if it does not hold
+  // that id (another participant announced it first and is still in the domain).
   uint32_t sender(const rtps::GuidPrefix_t& participant) const {
     std::lock_guard lock(peers_mutex);
-    const auto it = robot_of_participant.find(participant);
-    return it == robot_of_participant.end() ? kUnknownSender : it->second;
+    return sender_locked(participant);
+  }
+  uint32_t sender_locked(const rtps::GuidPrefix_t& participant) const {
+    const auto it = claimed_by.find(participant);
+    if (it == claimed_by.end()) return kUnknownSender;
+    const auto holders = claimants.find(it->second);
+    return holders != claimants.end() && !holders->second.empty() &&
+                   holders->second.front() == participant
+               ? it->second
+               : kUnknownSender;
   }
 
   void participant_discovered(const rtps::GuidPrefix_t& participant,
                               const std::vector<uint8_t>& user_data) {
-    const auto robot_id = robot_of_user_data(user_data);
-    if (!robot_id) return;  // not a bridge (a tool, a foreign application)
+    // a bridge of this team (same partitions); another application or team is no claimant
+    const auto robot_id = robot_of_user_data(user_data, config.partitions);
+    if (!robot_id) return;
     std::string warning;
     {
       std::lock_guard lock(peers_mutex);
-      const auto [it, added] = participant_of_robot.emplace(*robot_id, participant);
-      if (added || it->second == participant) {
-        robot_of_participant[participant] = *robot_id;
-      } else {
-        warning = "a second DDS participant announces robot " + std::to_string(*robot_id) +
-                  " while the first is in the domain: its samples are refused";
+      if (const auto it = claimed_by.find(participant); it != claimed_by.end()) {
+        if (it->second == *robot_id) return;  // the same claim again
+        forget_claim(participant);            // it announces another id now
       }
+      claimed_by[participant] = *robot_id;
+      auto& queue = claimants[*robot_id];
+      queue.push_back(participant);
+      if (queue.front() != participant)
+        warning = "a second DDS participant announces robot " + std::to_string(*robot_id) +
+                  " while the first is in the domain: its samples are refused until the first "
+                  "leaves (a restarted robot: its old participant's discovery lease)";
     }
     if (!warning.empty() && callbacks.on_warning) callbacks.on_warning(warning);
   }
 
   void participant_left(const rtps::GuidPrefix_t& participant) {
-    std::lock_guard lock(peers_mutex);
-    const auto it = robot_of_participant.find(participant);
-    if (it == robot_of_participant.end()) return;
-    participant_of_robot.erase(it->second);
-    robot_of_participant.erase(it);
+    std::optional<std::pair<fdds::InstanceHandle_t, uint32_t>> promoted;
+    {
+      std::lock_guard lock(peers_mutex);
+      const auto it = claimed_by.find(participant);
+      if (it == claimed_by.end()) return;
+      const uint32_t robot_id = it->second;
+      forget_claim(participant);
+      // the next participant that announced the id (a restarted robot) now holds it; its
+      // presence, refused while it did not, counts now
+      const auto holders = claimants.find(robot_id);
+      if (holders != claimants.end() && !holders->second.empty()) {
+        const auto presence = pending_presence.find(holders->second.front());
+        if (presence != pending_presence.end()) {
+          promoted.emplace(presence->second, robot_id);
+          pending_presence.erase(presence);
+        }
+      }
+    }
+    if (promoted) peer_seen(promoted->first, promoted->second);
+  }
+
+  // Drops a participant's claim (peers_mutex held).
+  void forget_claim(const rtps::GuidPrefix_t& participant) {
+    const auto it = claimed_by.find(participant);
+    if (it == claimed_by.end()) return;
+    auto& queue = claimants[it->second];
+    queue.erase(std::remove(queue.begin(), queue.end(), participant), queue.end());
+    if (queue.empty()) claimants.erase(it->second);
+    pending_presence.erase(participant);
+    claimed_by.erase(it);
+  }
+
+  // A presence sample: counts from the participant that holds the robot id; from one that
+  // announced it but does not hold it (yet), it is kept for when it does.
+  void presence(const rtps::GuidPrefix_t& participant, const fdds::InstanceHandle_t& writer,
+                uint32_t robot_id) {
+    {
+      std::lock_guard lock(peers_mutex);
+      if (sender_locked(participant) != robot_id) {
+        const auto it = claimed_by.find(participant);
+        if (it != claimed_by.end() && it->second == robot_id)
+          pending_presence[participant] = writer;
+        return;
+      }
+    }
+    peer_seen(writer, robot_id);
   }
 
   void peer_seen(const fdds::InstanceHandle_t& writer, uint32_t robot_id) {
@@ -251,9 +310,9 @@ class PresenceListener final : public fdds::DataReaderListener {
       // a presence counts from the participant that announced the robot only (a forged one
       // could report a teammate lost or alive)
       while (reader->take_next_sample(&envelope, &info) == ReturnCode_t::RETCODE_OK)
-        if (info.valid_data && envelope.type_name() == kPresenceType &&
-            impl_->sender(info.sample_identity.writer_guid().guidPrefix) == envelope.robot_id())
-          impl_->peer_seen(info.publication_handle, envelope.robot_id());
+        if (info.valid_data && envelope.type_name() == kPresenceType)
+          impl_->presence(info.sample_identity.writer_guid().guidPrefix, info.publication_handle,
+                          envelope.robot_id());
     });
   }
   void on_liveliness_changed(fdds::DataReader* /*reader*/,
@@ -343,7 +402,7 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
 
   fdds::DomainParticipantQos pqos;
   pqos.name(config.participant_name.c_str());
-  pqos.user_data().data_vec(participant_user_data(config.robot_id));
+  pqos.user_data().data_vec(participant_user_data(config.robot_id, config.partitions));
   const std::string& t = config.transport;
   if (t != "builtin") pqos.transport().use_builtin_transports = false;
   if (t == "loopback") {

@@ -75,11 +75,14 @@ struct WireEnvelope {
   uint32_t sender_robot_id = kUnknownSender;
 };
 
-// A bridge participant's user data: who it is, announced at discovery (before any of its
-// endpoints match), so that a sample is tied to its sending participant's GUID.
-std::vector<uint8_t> participant_user_data(uint32_t robot_id);
-// The robot id of a participant's user data; nullopt if it is not a bridge's.
-std::optional<uint32_t> robot_of_user_data(const std::vector<uint8_t>& user_data);
+// A bridge participant's user data: who it is and its partitions, announced at discovery
+// (before its endpoints are matched), so that a sample is tied to its sending participant.
+std::vector<uint8_t> participant_user_data(uint32_t robot_id,
+                                           const std::vector<std::string>& partitions);
+// The robot id of a participant's user data; nullopt if it is not a bridge's or if its
+// partitions are not these (another team sharing the domain).
+std::optional<uint32_t> robot_of_user_data(const std::vector<uint8_t>& user_data,
+                                           const std::vector<std::string>& partitions);
 
 class DdsLink {
  public:

@@ -12,17 +12,37 @@ constexpr std::string_view kUserDataTag = "scancrew robot ";
 
 }  // namespace
 
-std::vector<uint8_t> participant_user_data(uint32_t robot_id) {
-  const std::string text = std::string(kUserDataTag) + std::to_string(robot_id);
+namespace {
+
+// "scancrew robot <id>", then " in <partitions>" (sorted, comma-separated) when there are
+std::string partition_suffix(const std::vector<std::string>& partitions) {
+  if (partitions.empty()) return {};
+  std::vector<std::string> sorted = partitions;
+  std::sort(sorted.begin(), sorted.end());
+  std::string out = " in ";
+  for (size_t i = 0; i < sorted.size(); ++i) out += (i > 0 ? "," : "") + sorted[i];
+  return out;
+}
+
+}  // namespace
+
+std::vector<uint8_t> participant_user_data(uint32_t robot_id,
+                                           const std::vector<std::string>& partitions) {
+  const std::string text =
+      std::string(kUserDataTag) + std::to_string(robot_id) + partition_suffix(partitions);
   return {text.begin(), text.end()};
 }
 
-std::optional<uint32_t> robot_of_user_data(const std::vector<uint8_t>& user_data) {
+std::optional<uint32_t> robot_of_user_data(const std::vector<uint8_t>& user_data,
+                                           const std::vector<std::string>& partitions) {
   const std::string text(user_data.begin(), user_data.end());
-  if (!text.starts_with(kUserDataTag) || text.size() > kUserDataTag.size() + 10) return {};
+  if (!text.starts_with(kUserDataTag)) return {};
+  const std::string suffix = partition_suffix(partitions);
+  if (!text.ends_with(suffix) || text.size() < kUserDataTag.size() + suffix.size()) return {};
+  const std::string digits =
+      text.substr(kUserDataTag.size(), text.size() - kUserDataTag.size() - suffix.size());
+  if (digits.empty() || digits.size() > 10) return {};
   uint64_t id = 0;
-  const std::string digits = text.substr(kUserDataTag.size());
-  if (digits.empty()) return {};
   for (const char c : digits) {
     if (c < '0' || c > '9') return {};
     id = id * 10 + static_cast<uint64_t>(c - '0');

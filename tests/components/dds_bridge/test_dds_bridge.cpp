@@ -505,7 +505,7 @@ class RawPeer {
   explicit RawPeer(std::optional<uint32_t> announce = 3) {
     fdds::DomainParticipantQos pqos;
     pqos.name("scancrew_test_raw_peer");
-    if (announce) pqos.user_data().data_vec(participant_user_data(*announce));
+    if (announce) pqos.user_data().data_vec(participant_user_data(*announce, {test_partition()}));
     pqos.transport().use_builtin_transports = false;
     auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
     udp->interfaceWhiteList.emplace_back("127.0.0.1");
@@ -675,6 +675,30 @@ TEST(DdsBridge, AnEnvelopeFromAParticipantThatDidNotAnnounceItsRobotIsRefused) {
     by_robot[st.header.robot_id].push_back(st.path_index);
   EXPECT_EQ(by_robot[1], (std::vector<uint32_t>{1, 2}));
   EXPECT_EQ(by_robot[3], (std::vector<uint32_t>{7}));
+}
+
+// A robot that restarts announces its id while its old participant may still be in the domain
+// (a crash sends no goodbye): refused until the old one leaves, then it holds the id.
+TEST(DdsBridge, ASecondParticipantOfARobotTakesOverWhenTheFirstLeaves) {
+  auto r1 = std::make_unique<Robot>(1, "", "[robot_state]");
+  Robot r2(2, "", "[robot_state]");
+  wait_ready({r1.get(), &r2}, 2, {"robot_state"});
+  RawPeer restarted(1);
+  ASSERT_TRUE(wait_until([&] { return restarted.matched() >= 2; }));
+  ASSERT_TRUE(wait_until([&] { return r2.bridge().matched("robot_state", false) >= 2; }));
+  const uint32_t v = msg::kMessageFormatVersion;
+  const std::string type = msg::RobotState::kTypeName;
+  ASSERT_TRUE(restarted.write(v, 1, 1, type, state_bytes(1, 500)));
+  ASSERT_TRUE(wait_until([&] {
+    return counters(r2.bridge().stats(), "robot_state", false)
+               .rejected[static_cast<size_t>(Reject::kForgedSender)] == 1;
+  }));
+  r1.reset();  // the first participant leaves the domain
+  ASSERT_TRUE(wait_until([&] {
+    (void)restarted.write(v, 1, 2, type, state_bytes(1, 501));
+    return r2.sink().count(r2.sink().states) >= 1;
+  }));
+  for (const auto& st : r2.sink().copy(r2.sink().states)) EXPECT_EQ(st.header.robot_id, 1u);
 }
 
 TEST(DdsBridge, ADestroyedTeammateIsReportedLost) {

@@ -175,16 +175,22 @@ TEST(EnvelopeCheck, AcceptsAGoodEnvelopeAndNamesEachRejection) {
   EXPECT_EQ(check_envelope(e, type, rules, &detail), std::nullopt);
 }
 
-TEST(EnvelopeCheck, ParticipantUserDataNamesOnlyABridgesRobot) {
-  EXPECT_EQ(robot_of_user_data(participant_user_data(7)), 7u);
-  EXPECT_EQ(robot_of_user_data(participant_user_data(0)), 0u);
+TEST(EnvelopeCheck, ParticipantUserDataNamesOnlyABridgesRobotOfThesePartitions) {
+  const std::vector<std::string> none, team = {"b", "a"};
+  EXPECT_EQ(robot_of_user_data(participant_user_data(7, none), none), 7u);
+  EXPECT_EQ(robot_of_user_data(participant_user_data(0, none), none), 0u);
+  EXPECT_EQ(robot_of_user_data(participant_user_data(7, team), {"a", "b"}), 7u);  // any order
+  // another team sharing the domain (other partitions) claims nothing here
+  EXPECT_EQ(robot_of_user_data(participant_user_data(7, team), none), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(participant_user_data(7, none), team), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(participant_user_data(7, {"a"}), team), std::nullopt);
   const auto text = [](const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); };
-  EXPECT_EQ(robot_of_user_data({}), std::nullopt);
-  EXPECT_EQ(robot_of_user_data(text("scancrew robot ")), std::nullopt);
-  EXPECT_EQ(robot_of_user_data(text("scancrew robot 1x")), std::nullopt);
-  EXPECT_EQ(robot_of_user_data(text("scancrew robot 4294967295")), std::nullopt);  // kUnknownSender
-  EXPECT_EQ(robot_of_user_data(text("scancrew robot 99999999999")), std::nullopt);
-  EXPECT_EQ(robot_of_user_data(text("another application")), std::nullopt);
+  EXPECT_EQ(robot_of_user_data({}, none), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(text("scancrew robot "), none), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(text("scancrew robot 1x"), none), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(text("scancrew robot 4294967295"), none), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(text("scancrew robot 99999999999"), none), std::nullopt);
+  EXPECT_EQ(robot_of_user_data(text("another application"), none), std::nullopt);
 }
 
 }  // namespace
