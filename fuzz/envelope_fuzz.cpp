@@ -39,7 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   msg::with_wire_message(topic_type, [&]<class T>() {
     T message;
     if (msg::decode(std::span<const uint8_t>(envelope.payload), message))
-      (void)dds_bridge::in_team(rules, envelope.robot_id);
+      (void)dds_bridge::in_team(rules, message.header.robot_id);
   });
   return 0;
 }

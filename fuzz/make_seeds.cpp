@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
       0)
     return 1;
   std::vector<uint8_t> seed = {0, static_cast<uint8_t>(patch.block_count & 0xff),
-                               static_cast<uint8_t>(patch.block_count >> 8)};
+                               static_cast<uint8_t>(patch.block_count >> 8), 0, 0};
   seed.insert(seed.end(), raw.begin(), raw.end());
   write(corpus / "patch" / "two_blocks", seed);
 

@@ -30,7 +30,7 @@ for h in "${harnesses[@]}"; do
     echo "fuzz: $h: $(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$') inputs in ${seconds} s, no finding"
   else
     echo "fuzz: $h: FINDING (build/fuzz/crashes/, $log):"
-    grep -E "ERROR|runtime error|SUMMARY|Test unit written" "$log" | head -20
+    grep -E "ERROR|runtime error|SUMMARY|Test unit written|No such file" "$log" | head -20 || true
     failed+=("$h")
   fi
 done
