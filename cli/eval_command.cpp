@@ -78,21 +78,22 @@ int run_eval(const EvalOptions& o) {
   // the mesh first: a wrong path fails before seconds of sampling
   const auto mesh = eval::read_ply_mesh(o.mesh_path);
   if (!mesh) {
-    std::fprintf(stderr, "scancrew eval: %s\n", mesh.error().c_str());
+    std::fprintf(stderr, "scancrew eval: %s\n", scancrew::log::printable(mesh.error()).c_str());
     return 2;
   }
 
   const auto sampling_start = std::chrono::steady_clock::now();
   auto scene_meshes = sim::load_scene_meshes(*scene);
   if (!scene_meshes) {
-    std::fprintf(stderr, "scancrew eval: %s\n", scene_meshes.error().c_str());
+    std::fprintf(stderr, "scancrew eval: %s\n",
+                 scancrew::log::printable(scene_meshes.error()).c_str());
     return 2;
   }
   const auto truth = sim::sample_surfaces(
       *scene, *scene_meshes,
       {.density_per_m2 = o.density_per_m2, .seed = o.seed, .visibility_rays = o.visibility_rays});
   if (!truth) {
-    std::fprintf(stderr, "scancrew eval: %s\n", truth.error().c_str());
+    std::fprintf(stderr, "scancrew eval: %s\n", scancrew::log::printable(truth.error()).c_str());
     return 2;
   }
   const double sampling_s = seconds_since(sampling_start);
@@ -103,7 +104,8 @@ int run_eval(const EvalOptions& o) {
                                              .per_point_error = !o.missed_path.empty()});
   const double eval_s = seconds_since(eval_start);
   if (!r) {
-    std::fprintf(stderr, "scancrew eval: %s: %s\n", o.mesh_path.c_str(), r.error().c_str());
+    std::fprintf(stderr, "scancrew eval: %s: %s\n", o.mesh_path.c_str(),
+                 scancrew::log::printable(r.error()).c_str());
     return 2;
   }
   std::optional<eval::MissProfile> misses;
@@ -117,12 +119,13 @@ int run_eval(const EvalOptions& o) {
       }
     const std::string about = "scancrew eval: ground-truth points not covered by " + o.mesh_path;
     if (auto w = sim::write_ply(o.missed_path, points, normals, {about}); !w) {
-      std::fprintf(stderr, "scancrew eval: %s\n", w.error().c_str());
+      std::fprintf(stderr, "scancrew eval: %s\n", scancrew::log::printable(w.error()).c_str());
       return 2;
     }
     auto profile = eval::profile_misses(*mesh, points, normals, r->e_max_m);
     if (!profile) {
-      std::fprintf(stderr, "scancrew eval: %s\n", profile.error().c_str());
+      std::fprintf(stderr, "scancrew eval: %s\n",
+                   scancrew::log::printable(profile.error()).c_str());
       return 2;
     }
     misses = *profile;

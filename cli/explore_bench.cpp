@@ -16,6 +16,7 @@
 #include "cli/explore_targets.hpp"
 #include "cli/mission_compose.hpp"
 #include "cli/thesis_table.hpp"
+#include "executors/log.hpp"
 #include "executors/params_impl.hpp"
 #include "scenegen/scenegen.hpp"
 
@@ -232,7 +233,8 @@ int run_explore_bench(const ExploreOptions& o) {
   for (const auto family : {scenegen::Family::kIndoor, scenegen::Family::kOutdoor}) {
     auto more = procedural_scenes(family, o.quick, out / "scenes");
     if (!more) {
-      std::fprintf(stderr, "scancrew bench explore: %s\n", more.error().c_str());
+      std::fprintf(stderr, "scancrew bench explore: %s\n",
+                   scancrew::log::printable(more.error()).c_str());
       return 2;
     }
     scenes.insert(scenes.end(), more->begin(), more->end());

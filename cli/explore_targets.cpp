@@ -146,20 +146,21 @@ std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
         {"parking lot, 1 robot: complete ≤ 836 s, total path ≤ 160 m", "not run", false});
   }
 
-  // procedural scenes: four robots against one, to 95 % of the reachable surface
+  // procedural scenes: four robots against one, to 95 % of the reachable surface; over the
+  // scenes that have a team of four (the ground robots' families: multirotors fly 3 and 5)
   for (const char* arch : {"centralized", "distributed"}) {
     const std::string target = std::string("procedural, 4 robots, ") + arch +
                                ": 95 % of the reachable surface in ≤ 35 % of one robot's "
                                "time (mean over the scenes)";
     double sum = 0;
-    size_t n = 0, scenes = 0, bounded = 0;
-    bool missing = false;
+    size_t n = 0, scenes = 0, bounded = 0, never = 0;
     for (const ExploreRun& r : runs) {
       if (!procedural(r) || r.robots != 1 || r.arch != "single" || !r.ran()) continue;
-      ++scenes;
       const ExploreRun* four = find(runs, r.scene, 4, arch);
-      if (four == nullptr || !std::isfinite(four->t95_reachable_s)) {
-        missing = true;
+      if (four == nullptr) continue;  // no team of four in this family (or not run)
+      ++scenes;
+      if (!std::isfinite(four->t95_reachable_s)) {
+        ++never;
         continue;
       }
       // one robot that never got to 95 %: its budget is a lower bound of its time
@@ -174,12 +175,13 @@ std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
     }
     const double mean = sum / static_cast<double>(n);
     std::string measured = (bounded > 0 ? "≤ " : "") + fixed(100 * mean, 0) + " % over " +
-                           std::to_string(n) + " of " + std::to_string(scenes) + " scenes";
+                           std::to_string(n) + " of " + std::to_string(scenes) +
+                           " scenes with a team of 4";
     if (bounded > 0)
       measured += " (" + std::to_string(bounded) +
-                  " whose single robot never reached 95 %: " + "its budget stands for its time)";
-    if (missing) measured += "; the others' teams never reached 95 %";
-    rows.push_back({target, measured, !missing && mean <= 0.35});
+                  " whose single robot never reached 95 %: its budget stands for its time)";
+    if (never > 0) measured += "; " + std::to_string(never) + " whose team never reached 95 %";
+    rows.push_back({target, measured, never == 0 && mean <= 0.35});
   }
   // the tail: from 90 % of the reachable surface to completion, against the way to 90 %
   size_t tails = 0, short_tails = 0;

@@ -21,14 +21,16 @@ int run_groundtruth(const GroundTruthOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   auto meshes = sim::load_scene_meshes(*scene);
   if (!meshes) {
-    std::fprintf(stderr, "scancrew groundtruth: %s\n", meshes.error().c_str());
+    std::fprintf(stderr, "scancrew groundtruth: %s\n",
+                 scancrew::log::printable(meshes.error()).c_str());
     return 2;
   }
   auto samples = sim::sample_surfaces(
       *scene, *meshes,
       {.density_per_m2 = o.density_per_m2, .seed = o.seed, .visibility_rays = o.visibility_rays});
   if (!samples) {
-    std::fprintf(stderr, "scancrew groundtruth: %s\n", samples.error().c_str());
+    std::fprintf(stderr, "scancrew groundtruth: %s\n",
+                 scancrew::log::printable(samples.error()).c_str());
     return 2;
   }
   const double seconds =
@@ -39,7 +41,7 @@ int run_groundtruth(const GroundTruthOptions& o) {
                 scene->name.c_str(), o.density_per_m2, static_cast<unsigned long long>(o.seed),
                 samples->area_m2);
   if (auto w = sim::write_ply(o.out_path, samples->points, samples->normals, {about}); !w) {
-    std::fprintf(stderr, "scancrew groundtruth: %s\n", w.error().c_str());
+    std::fprintf(stderr, "scancrew groundtruth: %s\n", scancrew::log::printable(w.error()).c_str());
     return 2;
   }
   std::printf("scene '%s': %zu points, visible area %.2f m2 (%g points/m2, seed %llu, %.2f s)\n",

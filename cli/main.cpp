@@ -67,7 +67,8 @@ int cmd_graph(const std::string& path) {
 int cmd_report(const std::string& run_dir) {
   const auto written = scancrew::mission::write_report(run_dir);
   if (!written) {
-    std::fprintf(stderr, "scancrew report: %s\n", written.error().c_str());
+    std::fprintf(stderr, "scancrew report: %s\n",
+                 scancrew::log::printable(written.error()).c_str());
     return 1;
   }
   std::printf("report: %s/report.html\n", run_dir.c_str());

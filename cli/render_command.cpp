@@ -75,7 +75,7 @@ int run_render(const RenderOptions& o) {
   msg::StereoFrame stereo;
   msg::DepthImage depth;
   if (auto r = team->render_stereo(0, &stereo, &depth); !r) {
-    std::fprintf(stderr, "scancrew render: %s\n", r.error().c_str());
+    std::fprintf(stderr, "scancrew render: %s\n", scancrew::log::printable(r.error()).c_str());
     return 2;
   }
   const auto path = [&](const char* name) {
@@ -87,7 +87,7 @@ int run_render(const RenderOptions& o) {
                          int channels) {
     auto r = sim::write_png(path(name), px, pw, ph, channels);
     if (!r) {
-      std::fprintf(stderr, "scancrew render: %s\n", r.error().c_str());
+      std::fprintf(stderr, "scancrew render: %s\n", scancrew::log::printable(r.error()).c_str());
       return false;
     }
     written.push_back(path(name));
@@ -108,7 +108,7 @@ int run_render(const RenderOptions& o) {
   if (auto r = team->render_view({cx, cy, height}, {0.0, 0.0, -1.0}, fov_v, 640, 480, true, &top,
                                  nullptr);
       !r) {
-    std::fprintf(stderr, "scancrew render: %s\n", r.error().c_str());
+    std::fprintf(stderr, "scancrew render: %s\n", scancrew::log::printable(r.error()).c_str());
     return 2;
   }
   if (!write("top_view.png", top, 640, 480, 3)) return 2;

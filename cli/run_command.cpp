@@ -184,7 +184,8 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
                                            .seed = 1,
                                            .visibility_rays = monitor.config().visibility_rays});
   if (!truth) {
-    std::fprintf(stderr, "scancrew run: evaluation: %s\n", truth.error().c_str());
+    std::fprintf(stderr, "scancrew run: evaluation: %s\n",
+                 scancrew::log::printable(truth.error()).c_str());
     return scores;
   }
   // the points the team's robot kinds can observe from their starts (docs/evaluation.md)
@@ -192,12 +193,13 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
       eval::team_observable(*scene, *meshes, truth->points, truth->normals, monitor.team_starts());
   if (!observable)
     std::fprintf(stderr, "scancrew run: evaluation: reachable ground truth: %s\n",
-                 observable.error().c_str());
+                 scancrew::log::printable(observable.error()).c_str());
   for (MeshScore& s : scores) {
     if (s.mesh_path.empty()) continue;
     const auto mesh = eval::read_ply_mesh(s.mesh_path);
     if (!mesh) {
-      std::fprintf(stderr, "scancrew run: evaluation: %s\n", mesh.error().c_str());
+      std::fprintf(stderr, "scancrew run: evaluation: %s\n",
+                   scancrew::log::printable(mesh.error()).c_str());
       continue;
     }
     s.e_max_m = monitor.config().eval_e_max_m > 0 ? monitor.config().eval_e_max_m
@@ -216,7 +218,7 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
       s.error = std::move(r).value();
     else
       std::fprintf(stderr, "scancrew run: evaluation of %s: %s\n", s.mesh_path.c_str(),
-                   r.error().c_str());
+                   scancrew::log::printable(r.error()).c_str());
   }
   return scores;
 }
@@ -300,7 +302,7 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   bool ok = true;
   auto check = [&](const Result<void, std::string>& r) {
     if (!r) {
-      std::fprintf(stderr, "scancrew run: %s\n", r.error().c_str());
+      std::fprintf(stderr, "scancrew run: %s\n", scancrew::log::printable(r.error()).c_str());
       ok = false;
     }
   };

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "executors/log.hpp"
 #include "scenegen/scenegen.hpp"
 
 namespace scancrew::cli {
@@ -32,7 +33,8 @@ int run_scenegen(const ScenegenOptions& o) {
 
   auto generated = scenegen::generate(*family, seed);
   if (!generated) {
-    std::fprintf(stderr, "scancrew scenegen: %s\n", generated.error().c_str());
+    std::fprintf(stderr, "scancrew scenegen: %s\n",
+                 scancrew::log::printable(generated.error()).c_str());
     return 1;
   }
   const sim::SceneSpec& s = generated->scene;

@@ -13,6 +13,7 @@
 #include "cli/child_process.hpp"
 #include "cli/mission_compose.hpp"
 #include "cli/sweep_table.hpp"
+#include "executors/log.hpp"
 #include "executors/params_impl.hpp"
 
 namespace scancrew::cli {
@@ -214,7 +215,7 @@ std::string describe(const SweepRun& r) {
 int run_sweep(const SweepOptions& o) {
   auto plan = read_plan(o.path);
   if (!plan) {
-    std::fprintf(stderr, "scancrew sweep: %s\n", plan.error().c_str());
+    std::fprintf(stderr, "scancrew sweep: %s\n", scancrew::log::printable(plan.error()).c_str());
     return 2;
   }
 
