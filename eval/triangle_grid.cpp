@@ -145,7 +145,7 @@ Result<TriangleGrid, std::string> TriangleGrid::build(const sim::TriangleMesh& m
   const auto cells = static_cast<size_t>(g.dims_[0] * g.dims_[1] * g.dims_[2]);
 
   // the build visits every cell of each triangle's box: bounded before it starts (20,000
-  // triangles that each spanned the scene, a 1 MB file, took 150 s); a reconstruction's
+  // triangles that each spanned the scene, a 260 KB file, took 150 s); a reconstruction's
   // triangles are a voxel or two, a few cells each
   uint64_t visits = 0;
   for (size_t t = 0; t < n && visits <= max_cell_visits; ++t) {

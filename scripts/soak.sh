@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Soak: one long simulated team mission, its resident memory sampled every simulated minute,
 # and the growth over the second half fitted by least squares (docs/reliability.md). Runs
-# outside CI (about 20 minutes of wall time on 2 cores for the default hour).
+# outside CI (about 35 minutes of wall time on 2 cores for the default hour).
 #
 #   scripts/soak.sh [MISSION] [SIM_SECONDS] [OUT]
 #     MISSION      a launch or mission file (default: the parking lot's four, distributed)

@@ -105,7 +105,7 @@ TEST(TriangleGrid, UsesCellsTwiceTheRadiusUnlessThatMakesTooMany) {
   EXPECT_LE(coarse->cells(), 1000u);
 }
 
-// 20,000 triangles that each spanned the whole scene (a 1 MB PLY) took 150 s in scancrew eval:
+// 20,000 triangles that each spanned the whole scene (a 260 KB PLY) took 150 s in scancrew eval:
 // the build's work is bounded before it starts.
 TEST(TriangleGrid, TrianglesFarLargerThanTheRadiusAreRefusedBeforeTheWork) {
   sim::TriangleMesh mesh;
