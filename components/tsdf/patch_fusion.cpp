@@ -1,7 +1,5 @@
 #include "components/tsdf/patch_fusion.hpp"
 
-#include <algorithm>
-
 namespace scancrew::tsdf {
 
 size_t fuse_block(Block& dst, const Block& src, float max_weight, uint32_t source_owner) {
@@ -13,11 +11,7 @@ size_t fuse_block(Block& dst, const Block& src, float max_weight, uint32_t sourc
     dst_total += d.weight;
     if (!(s.weight > 0)) continue;
     src_total += s.weight;
-    const double w = static_cast<double>(d.weight) + s.weight;
-    d.distance_m = static_cast<float>((static_cast<double>(d.distance_m) * d.weight +
-                                       static_cast<double>(s.distance_m) * s.weight) /
-                                      w);
-    d.weight = std::min(static_cast<float>(w), max_weight);
+    fuse_voxel(d, s, max_weight);
     ++written;
   }
   if (src_total > dst_total) dst.owner = source_owner;

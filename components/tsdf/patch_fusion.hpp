@@ -4,6 +4,7 @@
 // private and public patches fused voxel by voxel, weights summed and distances
 // weight-averaged. Only the patch's blocks are touched, so fusing is incremental.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -24,6 +25,15 @@ struct FuseStats {
 // saturates (the weighted mean is associative). The block's owner becomes source_owner
 // when the source's total weight exceeds the block's. Returns the voxels written.
 size_t fuse_block(Block& dst, const Block& src, float max_weight, uint32_t source_owner);
+
+// One voxel of fuse_block (s.weight > 0).
+inline void fuse_voxel(Voxel& d, const Voxel& s, float max_weight) {
+  const double w = static_cast<double>(d.weight) + s.weight;
+  d.distance_m = static_cast<float>((static_cast<double>(d.distance_m) * d.weight +
+                                     static_cast<double>(s.distance_m) * s.weight) /
+                                    w);
+  d.weight = std::min(static_cast<float>(w), max_weight);
+}
 
 // Fuses a decoded patch into the map as one update (map.begin_update()): only the patch's
 // blocks are written (copied first when a snapshot shares them), their modified set to the

@@ -131,7 +131,7 @@ void TsdfMapper::on_deactivate() {
   if (config_.mode == "distributed")
     SCANCREW_LOG_INFO(
         "%s: patches: %llu made (%.1f kB each on the wire, 1/%.1f of raw float blocks), %llu "
-        "received, %llu refused, %llu requested, %llu replies sent",
+        "dropped (nothing new), %llu received, %llu refused, %llu requested, %llu replies sent",
         qualified_name().c_str(), static_cast<unsigned long long>(s.patches_made),
         s.patches_made > 0
             ? static_cast<double>(s.patch_wire_bytes) / 1e3 / static_cast<double>(s.patches_made)
@@ -139,6 +139,7 @@ void TsdfMapper::on_deactivate() {
         s.patch_wire_bytes > 0
             ? static_cast<double>(s.patch_raw_bytes) / static_cast<double>(s.patch_wire_bytes)
             : 0.0,
+        static_cast<unsigned long long>(s.patches_dropped),
         static_cast<unsigned long long>(s.patches_received),
         static_cast<unsigned long long>(s.patches_rejected),
         static_cast<unsigned long long>(s.requests_sent),
@@ -239,7 +240,50 @@ void TsdfMapper::on_depth(const msg::DepthImage& depth) {
   }
 }
 
+// Whether the current patch tells the team something its estimate lacks. For some voxel it
+// observes, fusing it into the global estimate (every patch of the team that this robot
+// holds) would
+//   - change its state (thesis eq. 1.1): unknown -> known, or occupied <-> empty with the
+//     fused distance more than half a voxel from the surface (a surface that moved by more
+//     than the map can show; depth noise at a resting surface flips states back and forth
+//     within it), or
+//   - at least double the evidence of a known voxel (the patch's weight >= the estimate's):
+//     a closer or new look, which sharpens the distance.
+// A robot at rest, or retracing mapped space, makes patches that do neither; they are
+// dropped, or every robot would hold them for the rest of the mission (docs/mapping.md,
+// "Patches"). Each voxel can double its weight only log2(max_weight / W_th) times, so at rest
+// patches stop.
+bool TsdfMapper::adds_information() const {
+  const auto w_max = static_cast<float>(config_.tsdf.max_weight);
+  const auto w_th = static_cast<float>(config_.tsdf.w_th);
+  const auto half_voxel = static_cast<float>(config_.tsdf.voxel_m / 2);
+  const Block empty{};
+  for (const auto& [index, block] : current_.blocks()) {
+    const Block* g = global_.find(index);
+    if (g == nullptr) g = &empty;
+    for (size_t i = 0; i < size_t{kBlockVoxels}; ++i) {
+      const Voxel& s = block->voxels[i];
+      if (!(s.weight > 0)) continue;
+      const Voxel& d = g->voxels[i];
+      const VoxelState before = state_of(d, w_th);
+      if (before != VoxelState::kUnknown && s.weight >= d.weight && d.weight < w_max) return true;
+      Voxel fused = d;
+      fuse_voxel(fused, s, w_max);
+      const VoxelState after = state_of(fused, w_th);
+      if (after == before) continue;
+      if (before == VoxelState::kUnknown || std::abs(fused.distance_m) > half_voxel) return true;
+    }
+  }
+  return false;
+}
+
 void TsdfMapper::complete_patch() {
+  if (!adds_information()) {
+    ++stats_.patches_dropped;
+    current_.clear();
+    current_frames_ = 0;
+    return;
+  }
   const uint32_t index = next_patch_index_++;
   Held held;
   held.own = true;

@@ -58,6 +58,7 @@ struct TsdfMapperStats {
   uint64_t frames = 0, integrated = 0;
   uint64_t rejected_frames = 0;  // bad depth images (check_frame)
   uint64_t patches_made = 0, patches_received = 0, patches_rejected = 0, duplicates = 0;
+  uint64_t patches_dropped = 0;  // completed with nothing new for the team (adds_information)
   uint64_t requests_sent = 0, replies_sent = 0;
   uint64_t patch_wire_bytes = 0;  // completed patches as sent (sum)
   uint64_t patch_raw_bytes = 0;   // the same patches as raw float blocks (sum)
@@ -122,6 +123,7 @@ class TsdfMapper final : public Component {
   void write_outputs();
   void on_depth(const msg::DepthImage& depth);
   void complete_patch();
+  bool adds_information() const;
   void on_patch(const msg::TsdfPatch& patch);
   void on_patch_list(uint32_t from, const msg::PatchList& list);
   void on_request(const msg::PatchRequest& request);

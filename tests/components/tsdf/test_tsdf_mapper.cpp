@@ -403,6 +403,44 @@ TEST(TsdfMapper, ACentralizedMapperReadsEachRobotsDepthTopic) {
   EXPECT_EQ(snap->state_at({-1.2, 2.2, 0.3}), VoxelState::kEmpty);
 }
 
+TEST(TsdfMapper, RobotsAtRestStopMakingPatchesOnceTheyAddNothing) {
+  // two robots standing still for 30 s (150 images each, 30 patches' worth): once a patch
+  // would neither change a voxel's state nor double a known voxel's evidence in the team's
+  // estimate, it adds nothing and is dropped, so what every robot holds stops growing
+  std::string text = launch_text(30.0, R"(
+  - name: mapper
+    type: tsdf_mapper
+    params: {mode: distributed, voxel_m: 0.1, truncation_m: 0.3}
+)");
+  const std::string moving = "vx: 0.4, yaw_rate: 0.18";
+  text.replace(text.find(moving), moving.size(), "vx: 0, yaw_rate: 0");
+  auto launch = run(text);
+  ASSERT_TRUE(launch);
+  auto m = mappers(*launch);
+  ASSERT_EQ(m.size(), 2u);
+  uint64_t made = 0;
+  for (TsdfMapper* mapper : m) {
+    const TsdfMapperStats& s = mapper->stats();
+    EXPECT_EQ(s.integrated, 150u);
+    EXPECT_EQ(s.patches_made + s.patches_dropped, 30u);
+    EXPECT_GE(s.patches_made, 1u);
+    EXPECT_GE(s.patches_dropped, 15u) << "made " << s.patches_made;
+    std::printf("robot %u: %llu patches made, %llu dropped\n", mapper->robot_id(),
+                static_cast<unsigned long long>(s.patches_made),
+                static_cast<unsigned long long>(s.patches_dropped));
+    made += s.patches_made;
+  }
+  for (TsdfMapper* mapper : m) {
+    EXPECT_EQ(mapper->held_patches().size(), made);
+    EXPECT_EQ(mapper->stats().requests_sent, 0u);
+  }
+  // the estimates still agree: both hold the same patches
+  const MapDiff d = compare(*m[0]->snapshot(), *m[1]->snapshot());
+  EXPECT_GT(d.compared, 1000u);
+  EXPECT_EQ(d.missing, 0u);
+  EXPECT_EQ(d.state_differs, 0u);
+}
+
 TEST(TsdfMapper, RefusesBadParameters) {
   auto launch = Launch::from_string(launch_text(1.0, R"(
   - {name: mapper, type: tsdf_mapper, params: {voxel_m: 0.1, truncation_m: 0.01, mode: sideways,
