@@ -1,5 +1,5 @@
 // scancrew: the command line. Subcommands: run, sim, robot, station, sweep, components, graph,
-// render, groundtruth, scenegen, eval, report, bench (ipc, sim, perception, tsdf, ise, tsp,
+// render, groundtruth, scenegen, eval, report, keys, bench (ipc, sim, perception, tsdf, ise, tsp,
 // planner, pipeline, explore).
 
 #include <CLI/CLI.hpp>
@@ -9,6 +9,7 @@
 #include "cli/eval_command.hpp"
 #include "cli/explore_bench.hpp"
 #include "cli/groundtruth_command.hpp"
+#include "cli/keys_command.hpp"
 #include "cli/mission_compose.hpp"
 #include "cli/render_command.hpp"
 #include "cli/report.hpp"
@@ -231,6 +232,23 @@ int main(int argc, char** argv) {
                    "write the ground-truth points not covered to this PLY (with normals)");
   eval->add_flag("--json", eval_options.json, "print one JSON object");
 
+  scancrew::cli::KeysOptions keys_options;
+  auto* keys = app.add_subcommand("keys", "a team's keys for DDS-Security (docs/security.md)");
+  keys->require_subcommand(1);
+  auto* keys_init = keys->add_subcommand("init", "make a team's authority and governance");
+  keys_init->add_option("dir", keys_options.dir, "key folder (made if absent)")->required();
+  keys_init->add_option("--team", keys_options.team, "the team's name (default: team)");
+  auto* keys_add = keys->add_subcommand(
+      "add", "make a place's identity and permissions (from the launch file's bridges)");
+  keys_add->add_option("dir", keys_options.dir, "key folder (scancrew keys init)")->required();
+  keys_add->add_option("launch", keys_options.launch, "the team's launch file")->required();
+  auto* keys_robot = keys_add->add_option("--robot", keys_options.robot, "a robot, by its id")
+                         ->check(CLI::Range(int64_t{1}, int64_t{4294967294}));
+  auto* keys_station = keys_add->add_flag("--station", keys_options.station, "the ground station");
+  auto* keys_sim = keys_add->add_flag("--sim", keys_options.sim, "the simulator");
+  keys_robot->excludes(keys_station)->excludes(keys_sim);
+  keys_station->excludes(keys_sim);
+
   std::string report_dir;
   auto* report = app.add_subcommand(
       "report", "write a mission run directory's pictures and report.html (docs/missions.md)");
@@ -444,6 +462,8 @@ int main(int argc, char** argv) {
   if (explore_cmd->parsed()) return scancrew::cli::run_explore_bench(explore_bench);
 
   if (run->parsed()) return scancrew::cli::run_launch(run_options);
+  if (keys_init->parsed()) return scancrew::cli::run_keys_init(keys_options);
+  if (keys_add->parsed()) return scancrew::cli::run_keys_add(keys_options);
   for (auto [cmd, process] : {std::pair{sim_part, "sim"}, std::pair{robot_part, "robot"},
                               std::pair{station_part, "station"}})
     if (cmd->parsed()) {

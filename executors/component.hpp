@@ -55,6 +55,7 @@ struct ComponentContext {
   std::map<std::string, std::string> remaps;      // port -> topic name (relative or absolute)
   std::map<std::string, PortQos> qos;             // port -> QoS overrides
   std::shared_ptr<CallbackGroup> callback_group;  // default group of the component
+  std::string security_keys;                      // LaunchSettings::security_keys
 };
 
 enum class LifecycleState { kUnconfigured, kInactive, kActive, kFinalized };
@@ -141,6 +142,8 @@ class Component {
   Clock& clock() { return context_.graph->clock(); }
   // The robots of the launch file (empty when the component was built outside one).
   const std::vector<TeamMember>& team() const;
+  // The launch file's security.keys (empty: none).
+  const std::string& security_keys() const { return context_.security_keys; }
   Graph& graph() { return *context_.graph; }
   // Something failed that loses data or output (a file not written, a replay stopped):
   // logged as an error and kept by the graph, so the run's exit status says so.

@@ -82,7 +82,7 @@ class LaunchBuilder {
       if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 ||
           dot + 1 == eq) {
         errors_.push_back("--set " + o + ": expected name.key=value (a component's name or " +
-                          "run / executor, then the parameter)");
+                          "run / executor / security, then the parameter)");
         continue;
       }
       const std::string name = o.substr(0, dot), key = o.substr(dot + 1, eq - dot - 1);
@@ -93,7 +93,7 @@ class LaunchBuilder {
         errors_.push_back("--set " + o + ": the value is not YAML: " + e.msg);
         continue;
       }
-      if (name == "run" || name == "executor") {
+      if (name == "run" || name == "executor" || name == "security") {
         if (!root[name].IsDefined() || root[name].IsNull())
           root[name] = YAML::Node(YAML::NodeType::Map);
         root[name][key] = value;
@@ -112,7 +112,7 @@ class LaunchBuilder {
         }
       if (!found)
         errors_.push_back("--set " + o + ": no component named '" + name +
-                          "' (nor run / executor) in " + file_);
+                          "' (nor run / executor / security) in " + file_);
     }
   }
 
@@ -126,7 +126,7 @@ class LaunchBuilder {
     top.choice("clock", clock, {"wall", "sim"});
     s.clock = clock == "sim" ? ClockType::kSim : ClockType::kWall;
     // the sections below are read on their own; mark them known to the top level
-    for (const char* section : {"executor", "run", "robots", "components"}) {
+    for (const char* section : {"executor", "run", "robots", "components", "security"}) {
       if (root[section].IsDefined() && root[section].IsScalar())
         errors_.push_back(yaml_location(file_, root[section]) + ": " + section + ": must be a " +
                           (std::string(section) == "robots" || std::string(section) == "components"
@@ -136,8 +136,9 @@ class LaunchBuilder {
     }
     for (const auto& kv : root)
       if (kv.first.Scalar() != "clock" && !top_known_.count(kv.first.Scalar()))
-        errors_.push_back(yaml_location(file_, kv.first) + ": " + kv.first.Scalar() +
-                          ": unknown key; allowed: clock, executor, run, robots, components");
+        errors_.push_back(
+            yaml_location(file_, kv.first) + ": " + kv.first.Scalar() +
+            ": unknown key; allowed: clock, executor, run, robots, components, security");
     merge(top);
 
     ParamReader exec = make_param_reader(root["executor"], file_, "executor");
@@ -177,6 +178,14 @@ class LaunchBuilder {
     run.optional("station", s.station);
     run.finish();
     merge(run);
+
+    ParamReader security = make_param_reader(root["security"], file_, "security");
+    security.optional("keys", s.security_keys);
+    security.finish();
+    merge(security);
+    if (root["security"].IsDefined() && !root["security"].IsNull() && s.security_keys.empty())
+      errors_.push_back(yaml_location(file_, root["security"]) +
+                        ": security.keys: the team's key folder (scancrew keys init DIR)");
     if (compute_time_ == "charged" && s.executor != LaunchSettings::ExecutorType::kStep)
       errors_.push_back(yaml_location(file_, root["run"]) +
                         ": run.compute_time: 'charged' needs executor: {type: step} (sim time); "
@@ -454,6 +463,7 @@ class LaunchBuilder {
         auto& group = groups[group_key];
         if (!group) group = std::make_shared<CallbackGroup>(group_key, spec.group_type);
         ctx.callback_group = group;
+        ctx.security_keys = launch.settings_.security_keys;
         // a per-robot component's strings name their robot: "{ns}", "{id}"
         // and every component's, the run directory: "{out}"
         std::vector<std::pair<std::string, std::string>> names = {{"{out}", out_dir()}};

@@ -48,6 +48,9 @@ struct LaunchSettings {
   // computer (a place of their own); false: on the one robot's (a single-robot mission,
   // everything on board). Only a launch with one robot may say false.
   bool station = true;
+  // security.keys: the team's key folder (scancrew keys init / add; docs/security.md); the
+  // DDS bridges then run authenticated and encrypted, each as its place. Empty: plain DDS.
+  std::string security_keys;
 };
 
 // What the command line adds to a launch file.

@@ -9,13 +9,15 @@
 #     --kill K --at-s T  SIGKILL robot K's process once the simulator reports sim time >= T
 #     --timeout S        wall seconds before every process is stopped (default 1800)
 #     --bin PATH         the scancrew binary (default: build/release/cli/scancrew)
+#     --secure           DDS-Security: a team key folder OUT/keys (scancrew keys init, then
+#                        keys add for every place started) and --set security.keys=OUT/keys
 #   Everything after -- goes to every process (e.g. --set bridge.link_loss_rate=0.2).
 # Exit status: the simulator's (0: it wrote its run directory), 124 on timeout.
 set -u
 launch=${1:?usage: run_team_processes.sh LAUNCH OUT [options]}
 out=${2:?usage: run_team_processes.sh LAUNCH OUT [options]}
 shift 2
-robots="1 2 3" kill_robot="" kill_at="" timeout_s=1800 station=0
+robots="1 2 3" kill_robot="" kill_at="" timeout_s=1800 station=0 secure=0
 bin=${SCANCREW_BIN:-build/release/cli/scancrew}
 extra=()
 while [ $# -gt 0 ]; do
@@ -26,12 +28,25 @@ while [ $# -gt 0 ]; do
     --at-s) kill_at=$2; shift 2 ;;
     --timeout) timeout_s=$2; shift 2 ;;
     --bin) bin=$2; shift 2 ;;
+    --secure) secure=1; shift ;;
     --) shift; extra=("$@"); break ;;
     *) echo "run_team_processes.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
 [ -x "$bin" ] || { echo "run_team_processes.sh: no scancrew binary at $bin" >&2; exit 2; }
 mkdir -p "$out"
+if [ "$secure" = 1 ]; then
+  rm -rf "$out/keys"
+  places=(--sim)
+  [ "$station" = 1 ] && places+=(--station)
+  for k in $robots; do places+=("--robot $k"); done
+  "$bin" keys init "$out/keys" --team "$(basename "$launch" .yaml)" >/dev/null || exit 2
+  for p in "${places[@]}"; do
+    # shellcheck disable=SC2086 # "--robot K" is two words
+    "$bin" keys add "$out/keys" "$launch" $p || exit 2
+  done
+  extra+=(--set "security.keys=$out/keys")
+fi
 
 pids=()
 stop_all() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; }

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "components/dds_bridge/team_keys.hpp"
 #include "executors/log.hpp"
 #include "executors/registry.hpp"
 #include "interfaces/codec.hpp"
@@ -44,6 +45,19 @@ Result<void, std::string> DdsBridge::on_configure() {
   dds.liveliness_lease_s = config_.liveliness_lease_s;
   dds.participant_name = "scancrew" + qualified_name();
   dds.robot_id = self_id_;
+  if (!security_keys().empty()) {
+    // authenticated and encrypted as this bridge's place (docs/security.md)
+    const std::string place = place_name(self_id_, config_.simulator_id);
+    auto properties = security_properties(security_keys(), place);
+    if (!properties) return make_unexpected(qualified_name() + ": " + properties.error());
+    auto team_name = team_of_keys(security_keys());
+    if (!team_name) return make_unexpected(qualified_name() + ": security: " + team_name.error());
+    dds.security_properties = std::move(*properties);
+    dds.security_team = *team_name;
+    dds.simulator_id = config_.simulator_id;
+    SCANCREW_LOG_INFO("%s: DDS-Security on: authenticated as %s of team %s, encrypted",
+                      qualified_name().c_str(), place.c_str(), team_name->c_str());
+  }
   DdsLink::Callbacks callbacks;
   // DDS threads: queue and return
   callbacks.on_sample = [this](size_t reader, WireEnvelope&& envelope, size_t bytes) {
@@ -128,40 +142,51 @@ Result<void, std::string> DdsBridge::on_configure() {
   return {};
 }
 
-// "{team}", "{others}" and "{self}" in a name: one topic per robot of the launch, per robot
-// but this bridge's, or this bridge's robot.
+Result<std::vector<std::string>, std::string> expand_topic_name(const std::string& name,
+                                                                const std::vector<TeamMember>& team,
+                                                                uint32_t self_id) {
+  std::string placeholder;
+  for (const char* p : {"{team}", "{others}", "{self}"})
+    if (name.find(p) != std::string::npos) placeholder = p;
+  if (placeholder.empty()) return std::vector<std::string>{name};
+  std::vector<std::string> out;
+  for (const TeamMember& m : team) {
+    if (m.ns.empty())
+      return make_unexpected("topic '" + name + "': " + placeholder +
+                             " needs the launch file's robots, each with a namespace");
+    if ((placeholder == "{others}" && m.id == self_id) ||
+        (placeholder == "{self}" && m.id != self_id))
+      continue;
+    std::string t = name;
+    t.replace(t.find(placeholder), placeholder.size(), m.ns);
+    out.push_back(std::move(t));
+  }
+  if (placeholder == "{self}" && out.empty())
+    return make_unexpected("topic '" + name +
+                           "': {self} names a per-robot bridge's own robot (per_robot: true)");
+  return out;
+}
+
+std::string dds_topic_name(const std::string& prefix, const std::string& name) {
+  return prefix + (name.front() == '/' ? name.substr(1) : name);
+}
+
 Result<void, std::string> DdsBridge::expand_templates() {
   std::vector<BridgedTopic> expanded;
   for (const BridgedTopic& spec : config_.topics) {
-    std::string placeholder;
-    for (const char* p : {"{team}", "{others}", "{self}"})
-      if (spec.name.find(p) != std::string::npos) placeholder = p;
-    if (placeholder.empty()) {
-      expanded.push_back(spec);
-      continue;
-    }
-    size_t made = 0;
-    for (const TeamMember& m : team()) {
-      if (m.ns.empty())
-        return make_unexpected(qualified_name() + ": topic '" + spec.name + "': " + placeholder +
-                               " needs the launch file's robots, each with a namespace");
-      if ((placeholder == "{others}" && m.id == robot_id()) ||
-          (placeholder == "{self}" && m.id != robot_id()))
-        continue;
-      BridgedTopic t = spec;
-      t.name.replace(t.name.find(placeholder), placeholder.size(), m.ns);
+    auto names = expand_topic_name(spec.name, team(), robot_id());
+    if (!names) return make_unexpected(qualified_name() + ": " + names.error());
+    for (std::string& name : *names) {
       const bool duplicate = std::any_of(expanded.begin(), expanded.end(), [&](const auto& e) {
-        return e.exported == t.exported && e.name == t.name;
+        return e.exported == spec.exported && e.name == name;
       });
       if (duplicate)
-        return make_unexpected(qualified_name() + ": topic '" + t.name + "' is listed twice (" +
+        return make_unexpected(qualified_name() + ": topic '" + name + "' is listed twice (" +
                                spec.name + ")");
+      BridgedTopic t = spec;
+      t.name = std::move(name);
       expanded.push_back(std::move(t));
-      ++made;
     }
-    if (placeholder == "{self}" && made == 0)
-      return make_unexpected(qualified_name() + ": topic '" + spec.name +
-                             "': {self} names a per-robot bridge's own robot (per_robot: true)");
   }
   config_.topics = std::move(expanded);
   return {};
@@ -198,8 +223,7 @@ Result<void, std::string> DdsBridge::add_topic(const BridgedTopic& spec) {
   // lockstep: a reader that matches after the first samples were written still gets them
   // (its `depth` last), so that every process sees the same samples from the first step
   if (config_.lockstep != "none" && spec.qos.reliable) state.spec.qos.transient_local = true;
-  const std::string dds_topic =
-      config_.dds_prefix + (spec.name.front() == '/' ? spec.name.substr(1) : spec.name);
+  const std::string dds_topic = dds_topic_name(config_.dds_prefix, spec.name);
   state.topic_key = LinkModel::topic_key(dds_topic);
   const std::string port = local_port(spec);
   auto endpoint = spec.exported ? link_->add_writer(dds_topic, state.spec.qos)

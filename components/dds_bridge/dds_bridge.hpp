@@ -55,6 +55,15 @@
 
 namespace scancrew::dds_bridge {
 
+// The names a bridged topic name stands for: "{team}", "{others}" or "{self}" (one of them,
+// a whole segment) replaced by the namespace of every robot of the team, every robot but
+// self_id, or self_id's; a name without a placeholder stands for itself.
+Result<std::vector<std::string>, std::string> expand_topic_name(const std::string& name,
+                                                                const std::vector<TeamMember>& team,
+                                                                uint32_t self_id);
+// The DDS topic of a bridged name: prefix + the name without its leading '/'.
+std::string dds_topic_name(const std::string& prefix, const std::string& name);
+
 struct BridgedTopic {
   std::string name;       // as listed: "robot_state" (relative) or "/team/plan" (absolute)
   std::string key;        // for the per-topic parameters: "robot_state", "team_plan"

@@ -30,7 +30,6 @@ namespace scancrew::dds_bridge {
 
 namespace {
 
-constexpr std::string_view kSyncTopic = "sc/_lockstep";
 constexpr int64_t kReady = -1;  // a follower's t_ns before its first step: set up and matched
 
 }  // namespace
@@ -247,9 +246,9 @@ Result<void, std::string> DdsBridge::make_lockstep() {
   if (followers.empty())
     for (const TeamMember& m : team()) followers.push_back(m.id);
   const DdsTopicQos qos{.reliable = true, .depth = 64, .transient_local = true};
-  auto writer = link_->add_writer(std::string(kSyncTopic), qos);
+  auto writer = link_->add_writer(std::string(kLockstepTopic), qos);
   if (!writer) return make_unexpected(qualified_name() + ": " + writer.error());
-  auto reader = link_->add_reader(std::string(kSyncTopic), qos);
+  auto reader = link_->add_reader(std::string(kLockstepTopic), qos);
   if (!reader) return make_unexpected(qualified_name() + ": " + reader.error());
   sync_writer_ = *writer;
   sync_reader_ = *reader;
@@ -268,7 +267,7 @@ void DdsBridge::on_sync(WireEnvelope&& envelope) {
   // step would end or run every follower)
   if (envelope.sender_robot_id != envelope.robot_id || !in_team(rules_, envelope.robot_id)) {
     // (one message whatever the claimed id: a forger picks the ids)
-    warn_once("lockstep: a sample on " + std::string(kSyncTopic) +
+    warn_once("lockstep: a sample on " + std::string(kLockstepTopic) +
               " from a participant that did not announce its bridge id, or from a bridge not "
               "in the team: ignored");
     return;
@@ -276,7 +275,7 @@ void DdsBridge::on_sync(WireEnvelope&& envelope) {
   msg::StepSync sync;
   if (envelope.format_version != msg::kMessageFormatVersion ||
       envelope.type_name != msg::StepSync::kTypeName || !msg::decode(envelope.payload, sync)) {
-    warn_once("lockstep: a sample on " + std::string(kSyncTopic) + " from bridge " +
+    warn_once("lockstep: a sample on " + std::string(kLockstepTopic) + " from bridge " +
               std::to_string(envelope.robot_id) + " is no StepSync of this build; ignored");
     return;
   }

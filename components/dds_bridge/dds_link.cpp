@@ -25,6 +25,7 @@
 #include <shared_mutex>
 
 #include "components/dds_bridge/idl/envelopePubSubTypes.h"
+#include "components/dds_bridge/team_keys.hpp"
 
 namespace scancrew::dds_bridge {
 
@@ -60,6 +61,10 @@ WireEnvelope from_dds(scancrew::dds::Envelope&& from) {
   to.payload = std::move(from.payload());
   return to;
 }
+
+constexpr std::string_view kNotGranted =
+    ": the place's permissions do not grant it (scancrew keys add, from this launch file, "
+    "writes permissions for what its bridges export and import)";
 
 std::string incompatible(const std::string& topic, fdds::QosPolicyId_t policy) {
   return "DDS topic '" + topic + "': a peer's QoS is incompatible with ours (policy id " +
@@ -99,6 +104,9 @@ struct DdsLink::Impl {
   std::map<fdds::InstanceHandle_t, uint32_t> robot_of_writer;
   std::set<uint32_t> alive;
   std::set<uint32_t> lost;
+  // security: the participants authenticated so far, and the claims of those not (yet)
+  std::set<rtps::GuidPrefix_t> authorized;
+  std::map<rtps::GuidPrefix_t, std::vector<uint8_t>> unauthenticated_claims;
 
   // Runs fn unless the link is closing; fn may then use callbacks.
   template <class Fn>
@@ -131,11 +139,54 @@ struct DdsLink::Impl {
                : kUnknownSender;
   }
 
+  // With security, a participant's claim counts once it is authenticated: discovery reports
+  // it before the handshake, and an unauthenticated participant could otherwise hold a
+  // robot's id first.
   void participant_discovered(const rtps::GuidPrefix_t& participant,
                               const std::vector<uint8_t>& user_data) {
+    if (secure()) {
+      std::lock_guard lock(peers_mutex);
+      if (!authorized.contains(participant)) {
+        unauthenticated_claims[participant] = user_data;
+        return;
+      }
+    }
+    claim(participant, user_data);
+  }
+
+  void participant_authenticated(const rtps::GuidPrefix_t& participant, bool ok) {
+    std::optional<std::vector<uint8_t>> pending;
+    {
+      std::lock_guard lock(peers_mutex);
+      if (ok) authorized.insert(participant);
+      const auto it = unauthenticated_claims.find(participant);
+      if (it != unauthenticated_claims.end()) {
+        if (ok) pending = std::move(it->second);
+        unauthenticated_claims.erase(it);
+      }
+    }
+    if (pending) claim(participant, *pending);
+  }
+
+  bool secure() const { return !config.security_properties.empty(); }
+
+  void claim(const rtps::GuidPrefix_t& participant, const std::vector<uint8_t>& user_data) {
     // a bridge of this team (same partitions); another application or team is no claimant
     const auto robot_id = robot_of_user_data(user_data, config.partitions);
     if (!robot_id) return;
+    if (secure()) {
+      // with security, an announced id counts only from a participant authenticated with
+      // that place's certificate: its GUID prefix is derived from the certificate's subject
+      const auto expected =
+          place_guid_prefix(config.security_team, place_name(*robot_id, config.simulator_id));
+      if (!std::equal(expected.begin(), expected.end(), participant.value)) {
+        if (callbacks.on_warning)
+          callbacks.on_warning("a DDS participant announces robot " + std::to_string(*robot_id) +
+                               " but authenticated with another place's certificate: its "
+                               "samples are refused");
+        return;
+      }
+    }
     std::string warning;
     {
       std::lock_guard lock(peers_mutex);
@@ -158,6 +209,8 @@ struct DdsLink::Impl {
     std::optional<std::pair<fdds::InstanceHandle_t, uint32_t>> promoted;
     {
       std::lock_guard lock(peers_mutex);
+      authorized.erase(participant);
+      unauthenticated_claims.erase(participant);
       const auto it = claimed_by.find(participant);
       if (it == claimed_by.end()) return;
       const uint32_t robot_id = it->second;
@@ -259,6 +312,15 @@ class ParticipantListener final : public fdds::DomainParticipantListener {
         impl_->participant_discovered(prefix, info.info.m_userData.data_vec());
       else
         impl_->participant_left(prefix);
+    });
+  }
+
+  void onParticipantAuthentication(fdds::DomainParticipant* /*participant*/,
+                                   rtps::ParticipantAuthenticationInfo&& info) override {
+    using Status = rtps::ParticipantAuthenticationInfo::AUTHENTICATION_STATUS;
+    impl_->guarded([&] {
+      impl_->participant_authenticated(info.guid.guidPrefix,
+                                       info.status == Status::AUTHORIZED_PARTICIPANT);
     });
   }
 
@@ -403,6 +465,8 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
   fdds::DomainParticipantQos pqos;
   pqos.name(config.participant_name.c_str());
   pqos.user_data().data_vec(participant_user_data(config.robot_id, config.partitions));
+  for (const auto& [name, value] : config.security_properties)
+    pqos.properties().properties().emplace_back(name, value);
   const std::string& t = config.transport;
   if (t != "builtin") pqos.transport().use_builtin_transports = false;
   if (t == "loopback") {
@@ -436,8 +500,14 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
   impl->participant = factory->create_participant(
       config.domain_id, pqos, impl->participant_listener.get(), fdds::StatusMask::none());
   if (impl->participant == nullptr)
-    return make_unexpected("cannot create a DDS participant on domain " +
-                           std::to_string(config.domain_id) + " (transport " + t + ")");
+    return make_unexpected(
+        "cannot create a DDS participant on domain " + std::to_string(config.domain_id) +
+        " (transport " + t + ")" +
+        (config.security_properties.empty()
+             ? std::string()
+             : std::string("; with DDS-Security: a certificate, key, governance or permissions "
+                           "file that does not verify against the team's ca.pem (Fast DDS's "
+                           "log above says which)")));
   std::unique_ptr<DdsLink> link(new DdsLink(std::move(impl)));
   Impl& m = *link->impl_;
   if (m.type.register_type(m.participant) != ReturnCode_t::RETCODE_OK)
@@ -480,7 +550,9 @@ Result<size_t, std::string> DdsLink::add_writer(const std::string& dds_topic,
   auto topic = m.topic(dds_topic);
   if (!topic) return make_unexpected(topic.error());
   fdds::DataWriter* w = m.publisher->create_datawriter(*topic, writer_qos(m.publisher, qos));
-  if (w == nullptr) return make_unexpected("cannot create a DDS writer on '" + dds_topic + "'");
+  if (w == nullptr)
+    return make_unexpected("cannot create a DDS writer on '" + dds_topic + "'" +
+                           (m.secure() ? std::string(kNotGranted) : std::string()));
   m.writers.push_back(w);
   return m.writers.size() - 1;
 }
@@ -493,7 +565,9 @@ Result<size_t, std::string> DdsLink::add_reader(const std::string& dds_topic,
   auto listener = std::make_unique<DataListener>(&m, m.readers.size(), dds_topic);
   fdds::DataReader* r =
       m.subscriber->create_datareader(*topic, reader_qos(m.subscriber, qos), listener.get());
-  if (r == nullptr) return make_unexpected("cannot create a DDS reader on '" + dds_topic + "'");
+  if (r == nullptr)
+    return make_unexpected("cannot create a DDS reader on '" + dds_topic + "'" +
+                           (m.secure() ? std::string(kNotGranted) : std::string()));
   m.listeners.push_back(std::move(listener));
   m.readers.push_back(r);
   return m.readers.size() - 1;

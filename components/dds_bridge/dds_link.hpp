@@ -23,6 +23,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "executors/result.hpp"
@@ -31,6 +32,9 @@ namespace scancrew::dds_bridge {
 
 inline constexpr std::string_view kPresenceTopic = "sc/_presence";
 inline constexpr std::string_view kPresenceType = "scancrew/Presence";
+// The lockstep's topic (dds_bridge_lockstep.cpp), written and read by every bridge of a team
+// split over processes.
+inline constexpr std::string_view kLockstepTopic = "sc/_lockstep";
 
 struct DdsTopicQos {
   bool reliable = true;          // reliable or best effort
@@ -55,6 +59,13 @@ struct DdsLinkConfig {
   bool intraprocess = true;
   std::string participant_name;
   uint32_t robot_id = 0;  // announced at discovery and written in the presence sample
+  // DDS-Security (team_keys.hpp): the participant's properties (plugins, certificates,
+  // governance, permissions); empty: plain DDS. With security, a peer's announced robot id
+  // counts only when its authenticated certificate is that robot's place of security_team
+  // (place_subject(security_team, place_name(id, simulator_id))).
+  std::vector<std::pair<std::string, std::string>> security_properties;
+  std::string security_team;
+  uint32_t simulator_id = 65535;
 };
 
 // An envelope as it travels (fields of idl/envelope.idl).
