@@ -10,8 +10,9 @@ PACKAGES=(
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
-  # Fast DDS (inter-robot bridge; side-by-side peer of `scancrew bench ipc`)
-  libfastrtps-dev libfastcdr-dev
+  # Fast DDS (inter-robot bridge; side-by-side peer of `scancrew bench ipc`); OpenSSL (scancrew
+  # keys: DDS-Security's certificates and signed documents); iproute2 (network-fault tests)
+  libfastrtps-dev libfastcdr-dev libssl-dev iproute2
   # iceoryx (side-by-side peer of `scancrew bench ipc`); Debian's iceoryx headers include
   # <sys/acl.h> without depending on libacl1-dev
   iceoryx libiceoryx-posh-dev libiceoryx-hoofs-dev libacl1-dev
