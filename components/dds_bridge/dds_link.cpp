@@ -414,6 +414,11 @@ fdds::DataWriterQos writer_qos(fdds::Publisher* publisher, const DdsTopicQos& qo
       qos.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
   w.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
   w.history().depth = static_cast<int32_t>(qos.depth);
+  // a reader that lost a sample or a fragment asks for it when a heartbeat tells it what was
+  // written: every 0.1 s here. Fast DDS's default period, 3 s, stalled a team stepping in
+  // lockstep on a link losing 10 % of its datagrams (each step waits for the samples written
+  // before it; docs/reliability.md)
+  w.reliable_writer_qos().times.heartbeatPeriod = duration(0.1);
   // large samples (patches) are fragmented and sent by Fast DDS's own thread: a write on the
   // executor thread only queues (the synchronous mode sent a whole patch from it)
   w.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
