@@ -11,8 +11,9 @@ PACKAGES=(
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # Fast DDS (inter-robot bridge; side-by-side peer of `scancrew bench ipc`); OpenSSL (scancrew
-  # keys: DDS-Security's certificates and signed documents); iproute2 (network-fault tests)
-  libfastrtps-dev libfastcdr-dev libssl-dev iproute2
+  # keys: DDS-Security's certificates and signed documents); iproute2, iptables and
+  # libnetfilter-queue (the network-fault runs: namespaces, loss, delay)
+  libfastrtps-dev libfastcdr-dev libssl-dev iproute2 iptables libnetfilter-queue-dev
   # iceoryx (side-by-side peer of `scancrew bench ipc`); Debian's iceoryx headers include
   # <sys/acl.h> without depending on libacl1-dev
   iceoryx libiceoryx-posh-dev libiceoryx-hoofs-dev libacl1-dev

@@ -13,7 +13,8 @@
 // what every bridge wrote up to the step before: samples written later are held back
 // (held_back) until a step releases them, and every sample admitted in a tick is stamped
 // with that tick's sim time. Reliable topics only: a best-effort sample may never arrive.
-// A peer reported lost (DDS liveliness) is waited for no more; a wait longer than
+// A peer reported lost (DDS liveliness) is waited for no more by the leader (a follower
+// waits for a lost leader, which a healed partition brings back); a wait longer than
 // lockstep_timeout_s (wall) ends the run with an error rather than hanging.
 
 #include <chrono>
@@ -111,14 +112,22 @@ class DdsBridge::Lockstep final : public StepGate {
     return target_ns;
   }
 
-  // follower: the leader's next time, and every sample it marks
+  // follower: the leader's next time, and every sample it marks. A leader reported lost (a
+  // partition, a dead process) is waited for up to lockstep_timeout_s: after a partition
+  // heals, this follower steps straight to the leader's time (its own clock stood still, as
+  // its simulated body got nothing to act on) and the team goes on with it
   std::optional<int64_t> follow(int64_t target_ns) {
     const uint32_t leader = b_.config_.simulator_id;
-    bool leader_lost = false;
+    bool reported = false;
     const bool ok = wait("the simulator's step", [&] {
       if (b_.lost_.contains(leader)) {
-        leader_lost = true;
-        return true;
+        if (!reported)
+          SCANCREW_LOG_WARN(
+              "%s: lockstep: the simulator (bridge %u) is lost: waiting for it "
+              "(lockstep_timeout_s)",
+              b_.qualified_name().c_str(), leader);
+        reported = true;
+        return false;
       }
       const auto it = b_.syncs_.find(leader);
       if (it == b_.syncs_.end()) return false;
@@ -126,11 +135,9 @@ class DdsBridge::Lockstep final : public StepGate {
       return it->second.t_ns >= target_ns && marks_in(it->second.marks);
     });
     if (!ok) return std::nullopt;
-    if (leader_lost) {
-      SCANCREW_LOG_ERROR("%s: lockstep: the simulator (bridge %u) is lost; the run ends",
-                         b_.qualified_name().c_str(), leader);
-      return std::nullopt;
-    }
+    if (reported)
+      SCANCREW_LOG_INFO("%s: lockstep: the simulator is back; stepping to its time",
+                        b_.qualified_name().c_str());
     const std::lock_guard lock(b_.sync_mutex_);
     const msg::StepSync& sync = b_.syncs_.at(leader);
     if (sync.stop != 0) return std::nullopt;

@@ -131,7 +131,8 @@ void TsdfMapper::on_deactivate() {
   if (config_.mode == "distributed")
     SCANCREW_LOG_INFO(
         "%s: patches: %llu made (%.1f kB each on the wire, 1/%.1f of raw float blocks), %llu "
-        "dropped (nothing new), %llu received, %llu refused, %llu requested, %llu replies sent",
+        "dropped (nothing new), %llu received, %llu refused, %llu duplicates ignored, %llu "
+        "requested, %llu replies sent",
         qualified_name().c_str(), static_cast<unsigned long long>(s.patches_made),
         s.patches_made > 0
             ? static_cast<double>(s.patch_wire_bytes) / 1e3 / static_cast<double>(s.patches_made)
@@ -142,6 +143,7 @@ void TsdfMapper::on_deactivate() {
         static_cast<unsigned long long>(s.patches_dropped),
         static_cast<unsigned long long>(s.patches_received),
         static_cast<unsigned long long>(s.patches_rejected),
+        static_cast<unsigned long long>(s.duplicates),
         static_cast<unsigned long long>(s.requests_sent),
         static_cast<unsigned long long>(s.replies_sent));
   write_outputs();
