@@ -44,6 +44,10 @@ case "$fault" in none | netem | partition | reboot) ;; *) echo "net_faults.sh: u
 # 77: skipped (ctest's SKIP_RETURN_CODE): not root
 [ "$(id -u)" = 0 ] || { echo "net_faults.sh: needs root (network namespaces, iptables)" >&2; exit 77; }
 [ -x "$bin" ] || { echo "net_faults.sh: no scancrew binary at $bin" >&2; exit 2; }
+if { [ "$fault" = partition ] || [ "$fault" = reboot ]; } && ! grep -qw 2 <<<"$robots"; then
+  echo "net_faults.sh: $fault acts on robot 2, which --robots does not start" >&2
+  exit 2
+fi
 if [ "$fault" = netem ]; then
   [ -x "$delay_bin" ] || { echo "net_faults.sh: no net_delay at $delay_bin (libnetfilter-queue-dev)" >&2; exit 2; }
   command -v iptables >/dev/null || { echo "net_faults.sh: no iptables" >&2; exit 2; }
@@ -67,6 +71,7 @@ cleanup() {
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done
   wait 2>/dev/null
   for p in "${places[@]}" hub; do ip netns del "$tag-$p" 2>/dev/null; done
+  for p in "${places[@]}"; do ip link del "v$$$p" 2>/dev/null; done  # a pair not yet moved
 }
 trap 'cleanup; exit 130' INT TERM
 trap cleanup EXIT
@@ -79,8 +84,8 @@ for p in "${places[@]}"; do
   ns="$tag-$p"
   ip netns add "$ns" || exit 2
   ip link add "v$$$p" type veth peer name "h$$$p" || exit 2
-  ip link set "v$$$p" netns "$ns"
-  ip link set "h$$$p" netns "$tag-hub"
+  ip link set "v$$$p" netns "$ns" || exit 2
+  ip link set "h$$$p" netns "$tag-hub" || exit 2
   ip -n "$ns" link set lo up
   ip -n "$ns" link set "v$$$p" name eth0
   ip -n "$ns" addr add "${addr[$p]}/24" dev eth0
@@ -118,7 +123,7 @@ after() { [ -n "$1" ] && awk -v t="$1" -v at="$2" 'BEGIN { exit !(t >= at) }'; }
 while kill -0 "$sim_pid" 2>/dev/null; do
   t=$(sim_time)
   if [ "$fault" = partition ] && [ -z "$cut_at" ] && after "$t" "$part_at"; then
-    ip -n "$tag-hub" link set "h$$r2" down
+    ip -n "$tag-hub" link set "h$$r2" down || { echo "net_faults.sh: cannot cut robot 2" >&2; exit 2; }
     cut_at=$t
     echo "net_faults.sh: robot 2 cut off at sim time $t s (wall $((SECONDS - start)) s)" | tee -a "$out/faults.txt"
   fi
@@ -134,7 +139,7 @@ while kill -0 "$sim_pid" 2>/dev/null; do
     echo "net_faults.sh: robot 2 started again at sim time $t s (wall $((SECONDS - start)) s)" | tee -a "$out/faults.txt"
   fi
   if [ -n "$cut_at" ] && [ "$healed" = 0 ] && after "$t" "$(awk -v a="$cut_at" -v d="$part_s" 'BEGIN { print a + d }')"; then
-    ip -n "$tag-hub" link set "h$$r2" up
+    ip -n "$tag-hub" link set "h$$r2" up || { echo "net_faults.sh: cannot heal robot 2" >&2; exit 2; }
     healed=1
     echo "net_faults.sh: robot 2 back at sim time $t s (wall $((SECONDS - start)) s)" | tee -a "$out/faults.txt"
   fi
@@ -177,4 +182,4 @@ for k in $robots; do
 done
 complete=$(tr '\r' '\n' <"$out/sim.log" | grep -c "^mission complete")
 echo "net_faults.sh: complete=$complete converged=$converged; patches held at most $total, missing per robot$missing_all (in flight at the stop: at most $teammates)" | tee -a "$out/faults.txt"
-[ "$complete" -ge 1 ] && [ "$converged" = 1 ]
+[ "$sim_status" = 0 ] && [ "$complete" -ge 1 ] && [ "$converged" = 1 ]

@@ -120,6 +120,9 @@ class DdsBridge::Lockstep final : public StepGate {
     const uint32_t leader = b_.config_.simulator_id;
     bool reported = false;
     const bool ok = wait("the simulator's step", [&] {
+      // a stop already heard ends the run, lost leader or not
+      if (const auto it = b_.syncs_.find(leader); it != b_.syncs_.end() && it->second.stop != 0)
+        return true;
       if (b_.lost_.contains(leader)) {
         if (!reported)
           SCANCREW_LOG_WARN(

@@ -154,14 +154,17 @@ struct DdsLink::Impl {
     claim(participant, user_data);
   }
 
+  // A failed handshake (ok false) may be retried by Fast DDS and succeed later: the pending
+  // claim stays until the participant leaves.
   void participant_authenticated(const rtps::GuidPrefix_t& participant, bool ok) {
+    if (!ok) return;
     std::optional<std::vector<uint8_t>> pending;
     {
       std::lock_guard lock(peers_mutex);
-      if (ok) authorized.insert(participant);
+      authorized.insert(participant);
       const auto it = unauthenticated_claims.find(participant);
       if (it != unauthenticated_claims.end()) {
-        if (ok) pending = std::move(it->second);
+        pending = std::move(it->second);
         unauthenticated_claims.erase(it);
       }
     }
@@ -190,6 +193,8 @@ struct DdsLink::Impl {
     std::string warning;
     {
       std::lock_guard lock(peers_mutex);
+      // it left (participant_left) between its authentication and this claim
+      if (secure() && !authorized.contains(participant)) return;
       if (const auto it = claimed_by.find(participant); it != claimed_by.end()) {
         if (it->second == *robot_id) return;  // the same claim again
         forget_claim(participant);            // it announces another id now

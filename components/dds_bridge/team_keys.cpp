@@ -1,5 +1,6 @@
 #include "components/dds_bridge/team_keys.hpp"
 
+#include <fcntl.h>
 #include <openssl/bio.h>
 #include <openssl/bn.h>
 #include <openssl/err.h>
@@ -10,7 +11,9 @@
 #include <openssl/x509.h>
 #include <openssl/x509v3.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -70,15 +73,29 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
+// Writes a new file (an existing one is replaced): a secret one is created 0600, exclusively
+// and without following a link, so that no other user can open it before the key is in it.
 Result<void, std::string> write_file(const fs::path& path, const std::string& text, bool secret) {
   std::error_code ec;
   fs::remove(path, ec);
-  std::ofstream out(path, std::ios::binary);
-  if (!out) return make_unexpected("cannot write " + path.string());
-  if (secret) ::chmod(path.c_str(), 0600);  // before the key is in it
-  out << text;
-  out.close();
-  if (!out) return make_unexpected("cannot write " + path.string());
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC,
+                        secret ? 0600 : 0644);
+  if (fd < 0)
+    return make_unexpected("cannot write " + path.string() + ": " +
+                           std::error_code(errno, std::generic_category()).message());
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n <= 0) {
+      ::close(fd);
+      return make_unexpected("cannot write " + path.string() + ": " +
+                             std::error_code(errno, std::generic_category()).message());
+    }
+    done += static_cast<size_t>(n);
+  }
+  if (::close(fd) != 0)
+    return make_unexpected("cannot write " + path.string() + ": " +
+                           std::error_code(errno, std::generic_category()).message());
   return {};
 }
 
@@ -134,17 +151,21 @@ Result<Cert, std::string> make_cert(EVP_PKEY* key, const std::string& cn, const 
                                     X509* issuer, EVP_PKEY* issuer_key, bool ca) {
   Cert cert(X509_new());
   if (!cert) return make_unexpected(openssl_error("cannot make a certificate"));
-  X509_set_version(cert.get(), 2);
+  if (X509_set_version(cert.get(), 2) != 1)
+    return make_unexpected(openssl_error("cannot set the certificate's version"));
   // a random serial: certificates made in the same second stay distinct
   unsigned char serial[8];
   if (RAND_bytes(serial, sizeof serial) != 1)
     return make_unexpected(openssl_error("cannot draw a serial number"));
   serial[0] &= 0x7f;
   BIGNUM* bn = BN_bin2bn(serial, sizeof serial, nullptr);
-  BN_to_ASN1_INTEGER(bn, X509_get_serialNumber(cert.get()));
+  const bool serial_set =
+      bn != nullptr && BN_to_ASN1_INTEGER(bn, X509_get_serialNumber(cert.get())) != nullptr;
   BN_free(bn);
-  X509_gmtime_adj(X509_getm_notBefore(cert.get()), -3600);  // an hour of clock skew
-  X509_gmtime_adj(X509_getm_notAfter(cert.get()), kValidDays * 24 * 3600);
+  if (!serial_set) return make_unexpected(openssl_error("cannot set the serial number"));
+  if (X509_gmtime_adj(X509_getm_notBefore(cert.get()), -3600) == nullptr ||  // clock skew
+      X509_gmtime_adj(X509_getm_notAfter(cert.get()), kValidDays * 24 * 3600) == nullptr)
+    return make_unexpected(openssl_error("cannot set the validity"));
   const Name name = make_name(cn, org);
   if (!name || X509_set_subject_name(cert.get(), name.get()) != 1)
     return make_unexpected(openssl_error("cannot set the subject"));

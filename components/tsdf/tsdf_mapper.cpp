@@ -131,7 +131,7 @@ void TsdfMapper::on_deactivate() {
   if (config_.mode == "distributed")
     SCANCREW_LOG_INFO(
         "%s: patches: %llu made (%.1f kB each on the wire, 1/%.1f of raw float blocks), %llu "
-        "dropped (nothing new), %llu received, %llu refused, %llu duplicates ignored, %llu "
+        "held back (nothing new yet), %llu received, %llu refused, %llu duplicates ignored, %llu "
         "requested, %llu replies sent",
         qualified_name().c_str(), static_cast<unsigned long long>(s.patches_made),
         s.patches_made > 0
@@ -140,7 +140,7 @@ void TsdfMapper::on_deactivate() {
         s.patch_wire_bytes > 0
             ? static_cast<double>(s.patch_raw_bytes) / static_cast<double>(s.patch_wire_bytes)
             : 0.0,
-        static_cast<unsigned long long>(s.patches_dropped),
+        static_cast<unsigned long long>(s.patches_held_back),
         static_cast<unsigned long long>(s.patches_received),
         static_cast<unsigned long long>(s.patches_rejected),
         static_cast<unsigned long long>(s.duplicates),
@@ -213,9 +213,10 @@ void TsdfMapper::on_depth(const msg::DepthImage& depth) {
   }
   const Eigen::Vector3d position = frame.T_world_cam.translation();
   own_position_ = position;
-  if (distributed && current_frames_ == 0) {
+  if (distributed && !current_open_) {
     current_anchor_ = frame.T_world_cam;
     current_travel_m_ = 0;
+    current_open_ = true;
   } else if (have_last_position_) {
     current_travel_m_ += (position - last_position_).norm();
   }
@@ -251,10 +252,13 @@ void TsdfMapper::on_depth(const msg::DepthImage& depth) {
 //     within it), or
 //   - at least double the evidence of a known voxel (the patch's weight >= the estimate's):
 //     a closer or new look, which sharpens the distance.
-// A robot at rest, or retracing mapped space, makes patches that do neither; they are
-// dropped, or every robot would hold them for the rest of the mission (docs/mapping.md,
-// "Patches"). Each voxel can double its weight only log2(max_weight / W_th) times, so at rest
-// patches stop.
+// A robot at rest, or retracing mapped space, makes patches that do neither: they are held
+// back, their images staying in the current patch (and in this robot's snapshots), which is
+// checked again after the next patch_frames images and goes out once it adds something —
+// a scene that changed, a faint view that became known, enough new looks to double the
+// estimate's evidence. So no evidence is lost, and at rest patches go out at doubling
+// intervals until the view saturates, then stop; held, every robot would keep each for the
+// rest of the mission (docs/mapping.md, "Patches").
 bool TsdfMapper::adds_information() const {
   const auto w_max = static_cast<float>(config_.tsdf.max_weight);
   const auto w_th = static_cast<float>(config_.tsdf.w_th);
@@ -281,9 +285,9 @@ bool TsdfMapper::adds_information() const {
 
 void TsdfMapper::complete_patch() {
   if (!adds_information()) {
-    ++stats_.patches_dropped;
-    current_.clear();
+    ++stats_.patches_held_back;
     current_frames_ = 0;
+    current_travel_m_ = 0;
     return;
   }
   const uint32_t index = next_patch_index_++;
@@ -322,6 +326,7 @@ void TsdfMapper::complete_patch() {
   }
   current_.clear();
   current_frames_ = 0;
+  current_open_ = false;
 }
 
 void TsdfMapper::on_patch(const msg::TsdfPatch& patch) {

@@ -58,7 +58,9 @@ struct TsdfMapperStats {
   uint64_t frames = 0, integrated = 0;
   uint64_t rejected_frames = 0;  // bad depth images (check_frame)
   uint64_t patches_made = 0, patches_received = 0, patches_rejected = 0, duplicates = 0;
-  uint64_t patches_dropped = 0;  // completed with nothing new for the team (adds_information)
+  // patch completions held back: nothing new for the team yet (adds_information); the frames
+  // stay in the current patch, which goes out once it adds something
+  uint64_t patches_held_back = 0;
   uint64_t requests_sent = 0, replies_sent = 0;
   uint64_t patch_wire_bytes = 0;  // completed patches as sent (sum)
   uint64_t patch_raw_bytes = 0;   // the same patches as raw float blocks (sum)
@@ -135,9 +137,10 @@ class TsdfMapper final : public Component {
 
   Config config_;
   Integrator integrator_;
-  TsdfMap global_;   // private + public patches (distributed) or the whole map
-  TsdfMap current_;  // the patch being built (distributed)
-  uint32_t current_frames_ = 0;
+  TsdfMap global_;               // private + public patches (distributed) or the whole map
+  TsdfMap current_;              // the patch being built (distributed)
+  uint32_t current_frames_ = 0;  // images since the current patch was last checked
+  bool current_open_ = false;    // the current patch has its anchor (its first image)
   uint32_t next_patch_index_ = 0;
   Eigen::Isometry3d current_anchor_ = Eigen::Isometry3d::Identity();
   Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();

@@ -403,10 +403,12 @@ TEST(TsdfMapper, ACentralizedMapperReadsEachRobotsDepthTopic) {
   EXPECT_EQ(snap->state_at({-1.2, 2.2, 0.3}), VoxelState::kEmpty);
 }
 
-TEST(TsdfMapper, RobotsAtRestStopMakingPatchesOnceTheyAddNothing) {
-  // two robots standing still for 30 s (150 images each, 30 patches' worth): once a patch
+TEST(TsdfMapper, RobotsAtRestSendPatchesAtDoublingIntervalsLosingNoEvidence) {
+  // two robots standing still for 30 s (150 images each, 30 patches' worth): a patch that
   // would neither change a voxel's state nor double a known voxel's evidence in the team's
-  // estimate, it adds nothing and is dropped, so what every robot holds stops growing
+  // estimate is held back, its images staying in the current patch, which goes out once it
+  // doubles the evidence: after 5, 10, 20, 40 and 80 images (weights here are the same at
+  // every image), and not after the last 70. What each robot holds grows as log2(time)
   std::string text = launch_text(30.0, R"(
   - name: mapper
     type: tsdf_mapper
@@ -422,23 +424,23 @@ TEST(TsdfMapper, RobotsAtRestStopMakingPatchesOnceTheyAddNothing) {
   for (TsdfMapper* mapper : m) {
     const TsdfMapperStats& s = mapper->stats();
     EXPECT_EQ(s.integrated, 150u);
-    EXPECT_EQ(s.patches_made + s.patches_dropped, 30u);
-    EXPECT_GE(s.patches_made, 1u);
-    EXPECT_GE(s.patches_dropped, 15u) << "made " << s.patches_made;
-    std::printf("robot %u: %llu patches made, %llu dropped\n", mapper->robot_id(),
+    EXPECT_EQ(s.patches_made, 5u);
+    EXPECT_EQ(s.patches_held_back, 25u);
+    std::printf("robot %u: %llu patches made, %llu held back\n", mapper->robot_id(),
                 static_cast<unsigned long long>(s.patches_made),
-                static_cast<unsigned long long>(s.patches_dropped));
+                static_cast<unsigned long long>(s.patches_held_back));
     made += s.patches_made;
   }
   for (TsdfMapper* mapper : m) {
     EXPECT_EQ(mapper->held_patches().size(), made);
     EXPECT_EQ(mapper->stats().requests_sent, 0u);
   }
-  // the estimates still agree: both hold the same patches
+  // each robot's snapshot holds the team's patches and its own held-back images: the two
+  // robots' maps cover the same voxels and agree in their states
   const MapDiff d = compare(*m[0]->snapshot(), *m[1]->snapshot());
   EXPECT_GT(d.compared, 1000u);
   EXPECT_EQ(d.missing, 0u);
-  EXPECT_EQ(d.state_differs, 0u);
+  EXPECT_LE(d.state_differs, d.compared / 1000);
 }
 
 TEST(TsdfMapper, RefusesBadParameters) {
