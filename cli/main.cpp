@@ -1,6 +1,6 @@
 // scancrew: the command line. Subcommands: run, sim, robot, station, sweep, components, graph,
-// render, groundtruth, scenegen, eval, report, keys, bench (ipc, sim, perception, tsdf, ise, tsp,
-// planner, pipeline, explore).
+// render, groundtruth, scenegen, eval, report, keys, bench (ipc, dds, sim, perception, tsdf, ise,
+// tsp, planner, pipeline, explore).
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -21,6 +21,7 @@
 #include "executors/registry.hpp"
 #include "mission/run_report.hpp"
 #ifdef SCANCREW_WITH_BENCH
+#include "bench/dds/dds_bench.hpp"
 #include "bench/ipc/ipc_bench.hpp"
 #include "bench/ise/ise_bench.hpp"
 #include "bench/perception/perception_bench.hpp"
@@ -411,6 +412,25 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->check(CLI::IsMember({"parking_lot", "powerplant"}));
 
+  scancrew::bench::DdsBenchOptions dds_bench;
+  auto* dds_cmd = bench->add_subcommand(
+      "dds",
+      "team network: latency and throughput with and without DDS-Security, the bridge and "
+      "Fast DDS side by side");
+  dds_cmd->add_flag("--json", dds_bench.json, "print one JSON object");
+  dds_cmd->add_option("--samples", dds_bench.samples, "latency messages per case (1000)")
+      ->check(CLI::Range(10, 1000000));
+  dds_cmd->add_flag("--quick", dds_bench.quick,
+                    "64 B and 64 KiB, 100 messages per case, a burst of 100 (smoke test)");
+  dds_cmd
+      ->add_option("--window", dds_bench.window,
+                   "throughput: messages unreceived at most (default: the depth, 50)")
+      ->check(CLI::Range(1, 50));
+  dds_cmd
+      ->add_option("--bridge-poll-s", dds_bench.bridge_poll_period_s,
+                   "the bridges' import poll period, s (their default: 0.002)")
+      ->check(CLI::Range(1e-4, 1.0));
+
   scancrew::bench::PipelineBenchOptions pipeline_bench;
   auto* pipeline_cmd = bench->add_subcommand(
       "pipeline",
@@ -513,6 +533,14 @@ int main(int argc, char** argv) {
   if (tsp_cmd->parsed()) {
 #ifdef SCANCREW_WITH_BENCH
     return scancrew::bench::run_tsp_bench(tsp_bench);
+#else
+    std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
+    return 2;
+#endif
+  }
+  if (dds_cmd->parsed()) {
+#ifdef SCANCREW_WITH_BENCH
+    return scancrew::bench::run_dds_bench(dds_bench);
 #else
     std::fprintf(stderr, "scancrew: built without benchmarks (SCANCREW_BUILD_BENCH=OFF)\n");
     return 2;
