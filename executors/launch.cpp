@@ -630,6 +630,10 @@ double Launch::run_stepped(const Progress& progress) {
     if (step_gate_ != nullptr) {
       const auto gated = step_gate_->before_step(target);
       if (!gated) break;
+      // a process that starts behind its team (a restarted robot following a running
+      // simulator) jumps to the team's time: each timer fires once, not once per period it
+      // did not live through
+      if (clock.now_ns() == start && *gated > target) clock.advance_to(*gated);
       target = std::max(*gated, clock.now_ns());
     }
     step_executor_->run_until(target);

@@ -14,7 +14,11 @@
 #                        60 s) of sim time (its link to the hub down), then healed
 #            reboot      robot 2's process SIGKILLed at sim time REBOOT_AT (default 60 s) and
 #                        started again REBOOT_AFTER (default 10) s of wall later, as a rebooted
-#                        robot rejoins. Known to fail (docs/reliability.md): the team hangs
+#                        robot rejoins
+#            range       robots 1 and 3 out of each other's range from sim time RANGE_AT
+#                        (default 10 s) on, for good (iptables drops what either sends the
+#                        other); both still reach robot 2 and the simulator: robot 2 relays
+#                        the map between them (thesis Fig. 4.2)
 #     OUT    run directory (the processes' logs, the summary in OUT/faults.txt)
 #   The launch file is launch_cfg/processes/arena_team.yaml unless LAUNCH=... is set.
 # Exit status: 0 when the team finished (mission complete) and the robots' maps converged:
@@ -23,7 +27,7 @@
 # that completes the mission), and none twice (held = made + received; duplicates are
 # counted apart); 1 otherwise; 2 on a setup error.
 set -u
-fault=${1:?usage: net_faults.sh none|netem|partition OUT [options]}
+fault=${1:?usage: net_faults.sh none|netem|partition|reboot|range OUT [options]}
 out=${2:?usage: net_faults.sh FAULT OUT [options]}
 shift 2
 launch=${LAUNCH:-launch_cfg/processes/arena_team.yaml}
@@ -40,12 +44,16 @@ while [ $# -gt 0 ]; do
     *) echo "net_faults.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
-case "$fault" in none | netem | partition | reboot) ;; *) echo "net_faults.sh: unknown fault $fault" >&2; exit 2 ;; esac
+case "$fault" in none | netem | partition | reboot | range) ;; *) echo "net_faults.sh: unknown fault $fault" >&2; exit 2 ;; esac
 # 77: skipped (ctest's SKIP_RETURN_CODE): not root
 [ "$(id -u)" = 0 ] || { echo "net_faults.sh: needs root (network namespaces, iptables)" >&2; exit 77; }
 [ -x "$bin" ] || { echo "net_faults.sh: no scancrew binary at $bin" >&2; exit 2; }
 if { [ "$fault" = partition ] || [ "$fault" = reboot ]; } && ! grep -qw 2 <<<"$robots"; then
   echo "net_faults.sh: $fault acts on robot 2, which --robots does not start" >&2
+  exit 2
+fi
+if [ "$fault" = range ] && ! { grep -qw 1 <<<"$robots" && grep -qw 2 <<<"$robots" && grep -qw 3 <<<"$robots"; }; then
+  echo "net_faults.sh: range needs robots 1, 2 and 3" >&2
   exit 2
 fi
 if [ "$fault" = netem ]; then
@@ -117,7 +125,7 @@ start_robot() {  # k, log file
 for k in $robots; do start_robot "$k" "$out/robot_$k.log"; done
 
 sim_time() { tr '\r' '\n' <"$out/sim.log" | sed -n 's/^t *\([0-9.]*\) \/.*/\1/p' | tail -n 1; }
-part_at=${PART_AT:-10} part_s=${PART_S:-60} reboot_at=${REBOOT_AT:-60}
+part_at=${PART_AT:-10} part_s=${PART_S:-60} reboot_at=${REBOOT_AT:-60} range_at=${RANGE_AT:-10}
 start=$SECONDS cut_at="" healed=0 killed_at=""
 after() { [ -n "$1" ] && awk -v t="$1" -v at="$2" 'BEGIN { exit !(t >= at) }'; }
 while kill -0 "$sim_pid" 2>/dev/null; do
@@ -126,6 +134,18 @@ while kill -0 "$sim_pid" 2>/dev/null; do
     ip -n "$tag-hub" link set "h$$r2" down || { echo "net_faults.sh: cannot cut robot 2" >&2; exit 2; }
     cut_at=$t
     echo "net_faults.sh: robot 2 cut off at sim time $t s (wall $((SECONDS - start)) s)" | tee -a "$out/faults.txt"
+  fi
+  if [ "$fault" = range ] && [ -z "$cut_at" ] && after "$t" "$range_at"; then
+    for pair in "r1 r3" "r3 r1"; do
+      read -r here there <<<"$pair"
+      if ! ip netns exec "$tag-$here" iptables -A INPUT -s "${addr[$there]}" -j DROP ||
+        ! ip netns exec "$tag-$here" iptables -A OUTPUT -d "${addr[$there]}" -j DROP; then
+        echo "net_faults.sh: cannot cut robots 1 and 3 apart" >&2
+        exit 2
+      fi
+    done
+    cut_at=$t healed=1  # for good
+    echo "net_faults.sh: robots 1 and 3 out of each other's range from sim time $t s (wall $((SECONDS - start)) s)" | tee -a "$out/faults.txt"
   fi
   if [ "$fault" = reboot ] && [ -z "$killed_at" ] && after "$t" "$reboot_at"; then
     kill -KILL "${robot_pid[2]}"
@@ -151,6 +171,9 @@ while kill -0 "$sim_pid" 2>/dev/null; do
 done
 wait "$sim_pid"
 sim_status=$?
+if [ "$fault" = reboot ] && [ "$healed" = 0 ]; then
+  echo "net_faults.sh: the team finished before robot 2 was started again (set REBOOT_AT earlier or REBOOT_AFTER shorter)" | tee -a "$out/faults.txt" >&2
+fi
 sleep 3  # the robots write their meshes and last log lines when the leader stops
 for p in "${pids[@]}"; do kill -INT "$p" 2>/dev/null; done
 wait 2>/dev/null

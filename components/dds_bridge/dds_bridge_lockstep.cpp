@@ -15,7 +15,10 @@
 // with that tick's sim time. Reliable topics only: a best-effort sample may never arrive.
 // A peer reported lost (DDS liveliness) is waited for no more by the leader (a follower
 // waits for a lost leader, which a healed partition brings back); a wait longer than
-// lockstep_timeout_s (wall) ends the run with an error rather than hanging.
+// lockstep_timeout_s (wall) ends the run with an error rather than hanging. A waiting follower
+// writes its last step again every second: a restarted robot's new process, whose first steps
+// the others refused while its old process still held its id, is heard once it holds it.
+// A process that starts behind the leader (a restarted robot) jumps to the leader's time.
 
 #include <chrono>
 #include <cinttypes>
@@ -119,24 +122,27 @@ class DdsBridge::Lockstep final : public StepGate {
   std::optional<int64_t> follow(int64_t target_ns) {
     const uint32_t leader = b_.config_.simulator_id;
     bool reported = false;
-    const bool ok = wait("the simulator's step", [&] {
-      // a stop already heard ends the run, lost leader or not
-      if (const auto it = b_.syncs_.find(leader); it != b_.syncs_.end() && it->second.stop != 0)
-        return true;
-      if (b_.lost_.contains(leader)) {
-        if (!reported)
-          SCANCREW_LOG_WARN(
-              "%s: lockstep: the simulator (bridge %u) is lost: waiting for it "
-              "(lockstep_timeout_s)",
-              b_.qualified_name().c_str(), leader);
-        reported = true;
-        return false;
-      }
-      const auto it = b_.syncs_.find(leader);
-      if (it == b_.syncs_.end()) return false;
-      if (it->second.stop != 0) return true;
-      return it->second.t_ns >= target_ns && marks_in(it->second.marks);
-    });
+    const bool ok = wait(
+        "the simulator's step",
+        [&] {
+          // a stop already heard ends the run, lost leader or not
+          if (const auto it = b_.syncs_.find(leader); it != b_.syncs_.end() && it->second.stop != 0)
+            return true;
+          if (b_.lost_.contains(leader)) {
+            if (!reported)
+              SCANCREW_LOG_WARN(
+                  "%s: lockstep: the simulator (bridge %u) is lost: waiting for it "
+                  "(lockstep_timeout_s)",
+                  b_.qualified_name().c_str(), leader);
+            reported = true;
+            return false;
+          }
+          const auto it = b_.syncs_.find(leader);
+          if (it == b_.syncs_.end()) return false;
+          if (it->second.stop != 0) return true;
+          return it->second.t_ns >= target_ns && marks_in(it->second.marks);
+        },
+        /*timeout_s=*/-1, /*cancellable=*/true, /*locked=*/true, /*rewrite=*/true);
     if (!ok) return std::nullopt;
     if (reported)
       SCANCREW_LOG_INFO("%s: lockstep: the simulator is back; stepping to its time",
@@ -190,6 +196,7 @@ class DdsBridge::Lockstep final : public StepGate {
   }
 
   void write(int64_t t_ns, bool stop, std::vector<msg::StepMark> marks) {
+    last_written_ = Written{t_ns, stop, marks};
     msg::StepSync sync;
     sync.header.robot_id = b_.self_id_;
     sync.header.seq = ++seq_;
@@ -209,18 +216,29 @@ class DdsBridge::Lockstep final : public StepGate {
   }
 
   // Waits (wall clock, bounded) until ready() holds, under sync_mutex_ (locked) or polling
-  // without it; false, with an error line, on timeout or cancel.
+  // without it; false, with an error line, on timeout or cancel. rewrite: the last step
+  // written is written again every second of the wait (DDS is called without sync_mutex_).
   template <class Ready>
   bool wait(const char* what, Ready ready, double timeout_s = -1, bool cancellable = true,
-            bool locked = true) {
+            bool locked = true, bool rewrite = false) {
     if (timeout_s < 0) timeout_s = b_.config_.lockstep_timeout_s;
-    const auto deadline =
-        std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    const auto start = std::chrono::steady_clock::now();
+    const auto deadline = start + std::chrono::duration<double>(timeout_s);
+    auto next_rewrite = start + std::chrono::seconds(1);
     std::unique_lock lock(b_.sync_mutex_, std::defer_lock);
     if (locked) lock.lock();
     while (!ready()) {
       if (cancellable && cancelled()) return false;
-      if (std::chrono::steady_clock::now() >= deadline) {
+      const auto now = std::chrono::steady_clock::now();
+      if (rewrite && last_written_ && now >= next_rewrite) {
+        next_rewrite = now + std::chrono::seconds(1);
+        if (locked) lock.unlock();
+        const Written again = *last_written_;
+        write(again.t_ns, again.stop, again.marks);
+        if (locked) lock.lock();
+        continue;
+      }
+      if (now >= deadline) {
         SCANCREW_LOG_ERROR("%s: lockstep: waited %.0f s for %s (lockstep_timeout_s); the run ends",
                            b_.qualified_name().c_str(), timeout_s, what);
         return false;
@@ -237,6 +255,12 @@ class DdsBridge::Lockstep final : public StepGate {
   const bool leader_;
   const std::vector<uint32_t> followers_;
   std::map<uint64_t, size_t> imported_;  // DDS topic key -> reader, of the topics it reads
+  struct Written {
+    int64_t t_ns;
+    bool stop;
+    std::vector<msg::StepMark> marks;
+  };
+  std::optional<Written> last_written_;  // the last step written (a waiting follower's again)
   bool started_ = false;
   int64_t last_t_ = std::numeric_limits<int64_t>::min();  // the last step written
   uint64_t seq_ = 0;

@@ -95,13 +95,16 @@ struct DdsLink::Impl {
 
   // presence: which robot each peer's presence writer belongs to, and who is alive; the robot
   // id each participant announced at discovery (the first participant to announce an id
-  // keeps it while it is in the domain)
+  // keeps it while it is in the domain and alive: a later one takes over a lost holder's id,
+  // as a restarted robot's new process does)
   mutable std::mutex peers_mutex;
   std::map<rtps::GuidPrefix_t, uint32_t> claimed_by;  // the id each participant announced
   // per id, the participants that announced it, in order: the first holds it
   std::map<uint32_t, std::vector<rtps::GuidPrefix_t>> claimants;
   std::map<rtps::GuidPrefix_t, fdds::InstanceHandle_t> pending_presence;
   std::map<fdds::InstanceHandle_t, uint32_t> robot_of_writer;
+  // per id, the participant whose presence counted last (another one now: a new process)
+  std::map<uint32_t, rtps::GuidPrefix_t> seen_holder;
   std::set<uint32_t> alive;
   std::set<uint32_t> lost;
   // security: the participants authenticated so far, and the claims of those not (yet)
@@ -202,36 +205,55 @@ struct DdsLink::Impl {
       claimed_by[participant] = *robot_id;
       auto& queue = claimants[*robot_id];
       queue.push_back(participant);
-      if (queue.front() != participant)
+      if (queue.front() != participant && !take_over_locked(*robot_id))
         warning = "a second DDS participant announces robot " + std::to_string(*robot_id) +
-                  " while the first is in the domain: its samples are refused until the first "
-                  "leaves (a restarted robot: its old participant's discovery lease)";
+                  " while the first is alive: its samples are refused until the first is lost "
+                  "(silent for liveliness_lease_s) or leaves";
     }
     if (!warning.empty() && callbacks.on_warning) callbacks.on_warning(warning);
   }
 
+  // When the participant holding an id is lost (its presence silent past the liveliness lease)
+  // and another one announced the id (a restarted robot's new process), the next one takes it
+  // over: the lost one goes to the back of the queue. Returns true if the holder changed.
+  // peers_mutex held.
+  bool take_over_locked(uint32_t robot_id) {
+    auto& queue = claimants[robot_id];
+    if (queue.size() < 2 || !lost.contains(robot_id)) return false;
+    std::rotate(queue.begin(), queue.begin() + 1, queue.end());
+    return true;
+  }
+
+  // The presence of an id's new holder, kept while it did not hold the id; taken (it counts
+  // now). peers_mutex held.
+  std::optional<std::pair<rtps::GuidPrefix_t, fdds::InstanceHandle_t>> holder_presence_locked(
+      uint32_t robot_id) {
+    const auto holders = claimants.find(robot_id);
+    if (holders == claimants.end() || holders->second.empty()) return std::nullopt;
+    const rtps::GuidPrefix_t holder = holders->second.front();
+    const auto presence = pending_presence.find(holder);
+    if (presence == pending_presence.end()) return std::nullopt;
+    const fdds::InstanceHandle_t writer = presence->second;
+    pending_presence.erase(presence);
+    return std::make_pair(holder, writer);
+  }
+
   void participant_left(const rtps::GuidPrefix_t& participant) {
-    std::optional<std::pair<fdds::InstanceHandle_t, uint32_t>> promoted;
+    std::optional<std::pair<rtps::GuidPrefix_t, fdds::InstanceHandle_t>> promoted;
+    uint32_t robot_id = 0;
     {
       std::lock_guard lock(peers_mutex);
       authorized.erase(participant);
       unauthenticated_claims.erase(participant);
       const auto it = claimed_by.find(participant);
       if (it == claimed_by.end()) return;
-      const uint32_t robot_id = it->second;
+      robot_id = it->second;
       forget_claim(participant);
       // the next participant that announced the id (a restarted robot) now holds it; its
       // presence, refused while it did not, counts now
-      const auto holders = claimants.find(robot_id);
-      if (holders != claimants.end() && !holders->second.empty()) {
-        const auto presence = pending_presence.find(holders->second.front());
-        if (presence != pending_presence.end()) {
-          promoted.emplace(presence->second, robot_id);
-          pending_presence.erase(presence);
-        }
-      }
+      promoted = holder_presence_locked(robot_id);
     }
-    if (promoted) peer_seen(promoted->first, promoted->second);
+    if (promoted) peer_seen(promoted->first, promoted->second, robot_id);
   }
 
   // Drops a participant's claim (peers_mutex held).
@@ -258,23 +280,36 @@ struct DdsLink::Impl {
         return;
       }
     }
-    peer_seen(writer, robot_id);
+    peer_seen(participant, writer, robot_id);
   }
 
-  void peer_seen(const fdds::InstanceHandle_t& writer, uint32_t robot_id) {
+  void peer_seen(const rtps::GuidPrefix_t& participant, const fdds::InstanceHandle_t& writer,
+                 uint32_t robot_id) {
     if (robot_id == config.robot_id) return;  // our own presence
-    bool joined = false, back = false;
+    bool joined = false, back = false, restarted = false;
     {
       std::lock_guard lock(peers_mutex);
+      // a new holder's presence replaces the old one's: the old writer's late events (its
+      // liveliness, its leaving) no longer speak for the robot
+      std::erase_if(robot_of_writer,
+                    [&](const auto& kv) { return kv.second == robot_id && !(kv.first == writer); });
       robot_of_writer[writer] = robot_id;
+      const auto seen = seen_holder.find(robot_id);
+      restarted = seen != seen_holder.end() && !(seen->second == participant);
+      seen_holder[robot_id] = participant;
       joined = alive.insert(robot_id).second;
       back = lost.erase(robot_id) > 0;
     }
-    if (joined && callbacks.on_peer) callbacks.on_peer(robot_id, true, back ? "back" : "joined");
+    if (joined && callbacks.on_peer)
+      callbacks.on_peer(robot_id, true,
+                        restarted ? "back (a new process: it restarted)"
+                        : back    ? "back"
+                                  : "joined");
   }
 
   void peer_gone(const fdds::InstanceHandle_t& writer, std::string_view why) {
     uint32_t robot_id = 0;
+    std::optional<std::pair<rtps::GuidPrefix_t, fdds::InstanceHandle_t>> promoted;
     {
       std::lock_guard lock(peers_mutex);
       auto it = robot_of_writer.find(writer);
@@ -282,8 +317,11 @@ struct DdsLink::Impl {
       robot_id = it->second;
       if (alive.erase(robot_id) == 0) return;  // already reported
       lost.insert(robot_id);
+      // a restarted robot's new process that announced the id meanwhile takes it over
+      if (take_over_locked(robot_id)) promoted = holder_presence_locked(robot_id);
     }
     if (callbacks.on_peer) callbacks.on_peer(robot_id, false, why);
+    if (promoted) peer_seen(promoted->first, promoted->second, robot_id);
   }
 
   void peer_alive_again(const fdds::InstanceHandle_t& writer) {
@@ -477,6 +515,15 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
   pqos.user_data().data_vec(participant_user_data(config.robot_id, config.partitions));
   for (const auto& [name, value] : config.security_properties)
     pqos.properties().properties().emplace_back(name, value);
+  // a dead process is told by its participant's discovery lease, set to the liveliness lease:
+  // Fast DDS 2.9's AUTOMATIC liveliness cannot tell it while another participant is alive (a
+  // reader asserting one remote writer's liveliness asserts every automatic writer it tracks,
+  // whoever's: LivelinessManager::assert_liveliness), so a killed robot among live ones was
+  // reported lost only at the default 20 s participant lease. Announced 5 times per lease: 5
+  // in a row lost (1e-5 at 10 % loss) reports a live robot lost
+  pqos.wire_protocol().builtin.discovery_config.leaseDuration = duration(config.liveliness_lease_s);
+  pqos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod =
+      duration(config.liveliness_lease_s / 5);
   const std::string& t = config.transport;
   if (t != "builtin") pqos.transport().use_builtin_transports = false;
   if (t == "loopback") {

@@ -17,10 +17,6 @@ namespace scancrew::tsdf {
 
 namespace {
 
-uint64_t patch_id(uint32_t robot, uint32_t index) {
-  return (static_cast<uint64_t>(robot) << 32) | index;
-}
-
 bool unit_quaternion(const msg::Quat& q) {
   const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
   return std::isfinite(n) && std::abs(n - 1.0) < 1e-6;
@@ -85,7 +81,7 @@ Result<void, std::string> TsdfMapper::on_configure() {
   if (config_.mode != "distributed") return {};
 
   patch_ = create_publisher<msg::TsdfPatch>("patch", {.pool_size = 4});
-  reply_ = create_publisher<msg::TsdfPatch>("patch_reply", {.pool_size = 4});
+  reply_ = create_publisher<msg::TsdfPatch>("patch_reply", {.pool_size = 16});
   list_ = create_publisher<msg::PatchList>("patch_list", {.pool_size = 2});
   request_ = create_publisher<msg::PatchRequest>("patch_request", {.pool_size = 2});
   const char* pose_topic = config_.pose_source == "vio" ? "odom" : "pose_gt";
@@ -118,7 +114,10 @@ Result<void, std::string> TsdfMapper::on_configure() {
   }
   const auto period = std::chrono::nanoseconds(
       std::llround(std::min(config_.request_delay_s, config_.request_retry_s) * 0.5e9 + 1e7));
-  create_timer(period, [this] { check_missing(); });
+  create_timer(period, [this] {
+    check_missing();
+    send_replies();
+  });
   return {};
 }
 
@@ -290,11 +289,17 @@ void TsdfMapper::complete_patch() {
     current_travel_m_ = 0;
     return;
   }
-  const uint32_t index = next_patch_index_++;
+  // the index: the stamp of the patch's last frame in ms (modulo 2^32), kept increasing. A
+  // robot whose process restarted numbers on from where its clock is, after every index its
+  // old process used: the team never takes a new patch for an old one (docs/mapping.md)
+  auto index = static_cast<uint32_t>(last_stamp_ns_ / 1'000'000);
+  if (made_any_ && static_cast<int32_t>(index - last_index_) <= 0) index = last_index_ + 1;
+  made_any_ = true;
+  last_index_ = index;
   Held held;
   held.own = true;
   msg::TsdfPatch& p = held.patch;
-  p.patch_id = patch_id(robot_id(), index);
+  p.patch_id = make_patch_id(robot_id(), index);
   p.robot_id = robot_id();
   p.index = index;
   p.T_world_patch = msg::to_msg(current_anchor_);
@@ -330,7 +335,9 @@ void TsdfMapper::complete_patch() {
 }
 
 void TsdfMapper::on_patch(const msg::TsdfPatch& patch) {
-  if (held_.contains(patch.patch_id) || patch.robot_id == robot_id()) {
+  // a patch of this robot's id that it does not hold is its old process's (it restarted):
+  // taken like a teammate's
+  if (held_.contains(patch.patch_id)) {
     ++stats_.duplicates;
     return;
   }
@@ -358,10 +365,15 @@ void TsdfMapper::on_patch(const msg::TsdfPatch& patch) {
 void TsdfMapper::on_patch_list(uint32_t from, const msg::PatchList& list) {
   for (Teammate& t : teammates_)
     if (t.id == from) t.holds = {list.patch_ids.begin(), list.patch_ids.end()};
+  // what the lister holds was answered: its asks are forgotten
+  const std::set<uint64_t> listed(list.patch_ids.begin(), list.patch_ids.end());
+  std::erase_if(asks_, [&](const auto& kv) {
+    return kv.first.first == from && listed.contains(kv.first.second);
+  });
   const int64_t now = clock().now_ns();
+  // this robot's own ids among them too: its old process's patches, after a restart
   for (uint64_t id : list.patch_ids)
-    if (!held_.contains(id) && static_cast<uint32_t>(id >> 32) != robot_id())
-      missing_since_ns_.try_emplace(id, now);
+    if (!held_.contains(id)) missing_since_ns_.try_emplace(id, now);
 }
 
 void TsdfMapper::check_missing() {
@@ -397,27 +409,42 @@ Eigen::Vector3d TsdfMapper::position_of(uint32_t robot) const {
 void TsdfMapper::on_request(const msg::PatchRequest& request) {
   const Eigen::Vector3d asker = position_of(request.from_robot);
   for (uint64_t id : request.patch_ids) {
-    const auto it = held_.find(id);
-    if (it == held_.end()) continue;
-    // of the robots known to hold it (the asker aside), the nearest to the asker answers;
-    // ties go to the lower robot id
-    double best = (position_of(robot_id()) - asker).norm();
-    bool mine = true;
-    for (const Teammate& t : teammates_) {
-      if (t.id == request.from_robot || t.lost || !t.holds.contains(id) || !t.has_position)
-        continue;
-      const double d = (t.position - asker).norm();
-      if (d < best || (d == best && t.id < robot_id())) {
-        mine = false;
-        break;
-      }
+    if (!held_.contains(id)) continue;
+    // of the robots known to hold it (the asker aside), the nearest to the asker answers
+    // (ties to the lower robot id), but for the patch's author while another holds it: its
+    // broadcast did not reach the asker, its reply may not either (the asker out of its
+    // range: another robot relays, thesis Fig. 4.2). Asked again (the asker's retry: that
+    // one's reply did not come), the next nearest; once each was asked, every holder answers
+    const auto author = static_cast<uint32_t>(id >> 32);
+    std::vector<std::pair<double, uint32_t>> holders{
+        {(position_of(robot_id()) - asker).norm(), robot_id()}};
+    for (const Teammate& t : teammates_)
+      if (t.id != request.from_robot && !t.lost && t.holds.contains(id) && t.has_position)
+        holders.emplace_back((t.position - asker).norm(), t.id);
+    if (holders.size() > 1)
+      std::erase_if(holders, [&](const auto& h) { return h.second == author; });
+    std::sort(holders.begin(), holders.end());
+    const size_t asked = asks_[{request.from_robot, id}]++;
+    if (asked >= holders.size() || holders[asked].second == robot_id()) replies_due_.insert(id);
+  }
+  send_replies();
+}
+
+// The replies due, as far as the reply pool allows; the rest on the next timer tick (a
+// robot catching up after a restart or a partition asks for many at once: none is dropped)
+void TsdfMapper::send_replies() {
+  while (!replies_due_.empty()) {
+    const auto it = held_.find(*replies_due_.begin());
+    if (it == held_.end()) {
+      replies_due_.erase(replies_due_.begin());
+      continue;
     }
-    if (!mine) continue;
-    if (auto loan = reply_.loan()) {
-      **loan = it->second.patch;
-      (void)reply_.publish(std::move(*loan));
-      ++stats_.replies_sent;
-    }
+    auto loan = reply_.loan();
+    if (!loan) return;
+    **loan = it->second.patch;
+    (void)reply_.publish(std::move(*loan));
+    ++stats_.replies_sent;
+    replies_due_.erase(replies_due_.begin());
   }
 }
 

@@ -15,10 +15,14 @@
 //                public map. An ID seen in a teammate's list but never received is asked
 //                for on `patch_request` after request_delay_s (again every
 //                request_retry_s); of the robots that hold it, the nearest to the asker
-//                replies on `patch_reply`. The current patch is never shared. A teammate
-//                whose "/<ns>/robot_state" reports kLost (the dds_bridge's word for a dead
-//                process) is no holder: the nearest live one replies, so a lost robot's
-//                patches stay recoverable from the others; any later state brings it back.
+//                replies on `patch_reply` (those its pool cannot hold now, on the next
+//                timer ticks). A patch's index is its last image's stamp in ms, so a
+//                restarted robot numbers on after its old process; it asks for that
+//                process's patches like a teammate's. The current patch is never shared.
+//                A teammate whose "/<ns>/robot_state" reports kLost (the dds_bridge's word
+//                for a dead process) is no holder: the nearest live one replies, so a lost
+//                robot's patches stay recoverable from the others; any later state brings
+//                it back.
 //   The global estimate (what the snapshots show) = private + public patches fused
 //   (weights summed, distances weight-averaged: patch_codec's fusion), plus the current
 //   patch. Own patches are fused as decoded from their wire form, like the teammates'
@@ -131,6 +135,7 @@ class TsdfMapper final : public Component {
   void on_request(const msg::PatchRequest& request);
   void on_teammate_state(size_t teammate, const msg::RobotState& state);
   void check_missing();
+  void send_replies();
   void publish_list();
   void publish_snapshot(int64_t stamp_ns);
   Eigen::Vector3d position_of(uint32_t robot) const;
@@ -141,12 +146,15 @@ class TsdfMapper final : public Component {
   TsdfMap current_;              // the patch being built (distributed)
   uint32_t current_frames_ = 0;  // images since the current patch was last checked
   bool current_open_ = false;    // the current patch has its anchor (its first image)
-  uint32_t next_patch_index_ = 0;
+  bool made_any_ = false;        // a patch made yet
+  uint32_t last_index_ = 0;      // the last patch's index
   Eigen::Isometry3d current_anchor_ = Eigen::Isometry3d::Identity();
   Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();
   double current_travel_m_ = 0;
   bool have_last_position_ = false;
   std::map<uint64_t, Held> held_;
+  std::map<std::pair<uint32_t, uint64_t>, size_t> asks_;  // (asker, patch): times asked
+  std::set<uint64_t> replies_due_;  // patches asked of this robot, not sent yet (the pool)
   std::map<uint64_t, int64_t> missing_since_ns_, last_request_ns_;
   std::vector<Teammate> teammates_;
   Eigen::Vector3d own_position_ = Eigen::Vector3d::Zero();

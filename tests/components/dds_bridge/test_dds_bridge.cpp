@@ -435,12 +435,8 @@ struct ChildGuard {
   }
 };
 
-TEST(DdsBridge, AKilledRobotProcessIsReportedLostWhenItsLeaseRunsOut) {
-  Robot r2(2, "", "[robot_state]");
-  ASSERT_TRUE(r2.ok());
-  ASSERT_TRUE(wait_until([&] { return r2.active(); }));
-
-  // the child runs this binary's child test, in our domain and partition
+// Starts this binary's child test (robot 4) in our domain and partition.
+void spawn_child_robot(ChildGuard& child) {
   std::vector<std::string> env_strings;
   for (char** e = environ; *e != nullptr; ++e)
     if (std::string_view(*e).substr(0, 24) != "SCANCREW_DDS_TEST_CHILD=")
@@ -453,10 +449,20 @@ TEST(DdsBridge, AKilledRobotProcessIsReportedLostWhenItsLeaseRunsOut) {
   std::string exe = "/proc/self/exe";
   std::string filter = "--gtest_filter=DdsBridgeChild.RunsARobotUntilKilled";
   std::vector<char*> argv = {exe.data(), filter.data(), nullptr};
-  ChildGuard child;
   ASSERT_EQ(::posix_spawn(&child.pid, exe.c_str(), nullptr, nullptr, argv.data(), envp.data()), 0);
+}
 
-  ASSERT_TRUE(wait_until([&] { return r2.bridge().peers_alive() == 1; }, 30.0))
+// Robot 3 stays alive beside it: Fast DDS 2.9's liveliness, asserted by any live writer for
+// every one it tracks, never reported the killed robot lost with a live teammate in the
+// domain (only the 20 s participant lease did; the bridge now sets that lease to its own).
+TEST(DdsBridge, AKilledRobotProcessIsReportedLostWhenItsLeaseRunsOut) {
+  Robot r2(2, "", "[robot_state]");
+  Robot r3(3, "", "[robot_state]");
+  ASSERT_TRUE(r2.ok());
+  ASSERT_TRUE(wait_until([&] { return r2.active(); }));
+  ChildGuard child;
+  spawn_child_robot(child);
+  ASSERT_TRUE(wait_until([&] { return r2.bridge().peers_alive() == 2; }, 30.0))
       << "the child robot never appeared";
   ASSERT_EQ(r2.sink().count(r2.sink().lost), 0u);
   const auto t0 = Clock::now();
@@ -468,6 +474,40 @@ TEST(DdsBridge, AKilledRobotProcessIsReportedLostWhenItsLeaseRunsOut) {
   EXPECT_EQ(lost[0].mode, msg::RobotState::Mode::kLost);
   EXPECT_LT(took_s, 5.0) << "the lease is 0.5 s";
   std::printf("killed robot 4 reported lost %.3f s after SIGKILL (lease 0.5 s)\n", took_s);
+}
+
+// A restarted robot: its old process was killed (no goodbye); the new process announcing the
+// same id takes it over once the old one is lost (its leases, 0.5 s here), and its samples
+// count.
+TEST(DdsBridge, ARestartedRobotProcessTakesOverItsIdOnceTheOldOneIsLost) {
+  Robot r2(2, "", "[robot_state]");
+  ASSERT_TRUE(r2.ok());
+  ASSERT_TRUE(wait_until([&] { return r2.active(); }));
+  ChildGuard child;
+  spawn_child_robot(child);
+  ASSERT_TRUE(wait_until([&] { return r2.bridge().peers_alive() == 1; }, 30.0))
+      << "the child robot never appeared";
+  child.kill_now();
+  ASSERT_TRUE(wait_until([&] { return r2.sink().count(r2.sink().lost) >= 1; }, 10.0));
+
+  const auto t0 = Clock::now();
+  Robot r4(4, "", "[robot_state]");  // the restarted process
+  ASSERT_TRUE(wait_until([&] { return r2.bridge().peers_alive() == 1; }, 10.0))
+      << "the restarted robot 4 was not taken for robot 4";
+  const double took_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  EXPECT_LT(took_s, 10.0) << "the leases are 0.5 s";
+  const auto heard = [&] {
+    for (const msg::RobotState& s : r2.sink().copy(r2.sink().states))
+      if (s.header.robot_id == 4 && s.path_index == 7) return true;
+    return false;
+  };
+  ASSERT_TRUE(wait_until([&] {
+    if (heard()) return true;
+    (void)r4.source().send_state(7);
+    return false;
+  })) << "the restarted robot's samples are refused";
+  EXPECT_EQ(r2.bridge().stats().peers_lost, 1u);
+  std::printf("restarted robot 4 taken over %.3f s after it started\n", took_s);
 }
 
 }  // namespace

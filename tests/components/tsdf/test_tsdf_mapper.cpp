@@ -17,18 +17,18 @@
 namespace scancrew::tsdf {
 namespace {
 
-// Relays a robot's patches from `in` to `out`; robot 1's patch with the chosen index is
-// dropped or corrupted (a lossy or noisy link).
+// Relays a robot's patches from `in` to `out`; robot 1's n-th patch (from 0) is dropped or
+// corrupted (a lossy or noisy link).
 class PatchLink final : public Component {
  public:
   static constexpr std::string_view kDescription = "test: relays patches, spoiling one";
   struct Config {
-    int drop_index = -1, corrupt_index = -1;
+    int drop_nth = -1, corrupt_nth = -1;
   };
   static Config read_config(ParamReader& p) {
     Config c;
-    p.optional("drop_index", c.drop_index);
-    p.optional("corrupt_index", c.corrupt_index);
+    p.optional("drop_nth", c.drop_nth);
+    p.optional("corrupt_nth", c.corrupt_nth);
     return c;
   }
   PatchLink(ComponentContext c, Config config) : Component(std::move(c)), config_(config) {}
@@ -39,15 +39,15 @@ class PatchLink final : public Component {
     out_ = create_publisher<msg::TsdfPatch>("out", {.pool_size = 4});
     create_subscription<msg::TsdfPatch>("in", {.depth = 8}, [this](Sample<msg::TsdfPatch>&& s) {
       const bool spoil = robot_id() == 1;
-      const auto index = static_cast<int>(s->index);
-      if (spoil && index == config_.drop_index) {
+      const int nth = seen_++;
+      if (spoil && nth == config_.drop_nth) {
         ++spoiled;
         return;
       }
       auto loan = out_.loan();
       if (!loan) return;
       **loan = *s;
-      if (spoil && index == config_.corrupt_index && !(*loan)->data.empty()) {
+      if (spoil && nth == config_.corrupt_nth && !(*loan)->data.empty()) {
         (*loan)->data[(*loan)->data.size() / 2] ^= 0x5a;
         ++spoiled;
       }
@@ -57,6 +57,7 @@ class PatchLink final : public Component {
     return {};
   }
   Config config_;
+  int seen_ = 0;
   Publisher<msg::TsdfPatch> out_;
 };
 SCANCREW_REGISTER_COMPONENT(PatchLink, "test_patch_link")
@@ -217,7 +218,7 @@ std::unique_ptr<Launch> run_with_link(const std::string& link_params) {
 
 TEST(TsdfMapper, ALostPatchIsRecoveredByRequest) {
   // robot 1's patch 2 never arrives: robot 2 sees it in robot 1's list and asks for it
-  auto launch = run_with_link("{drop_index: 2}");
+  auto launch = run_with_link("{drop_nth: 2}");
   ASSERT_TRUE(launch);
   auto m = mappers(*launch);
   ASSERT_EQ(m.size(), 2u);
@@ -233,7 +234,7 @@ TEST(TsdfMapper, ALostPatchIsRecoveredByRequest) {
 }
 
 TEST(TsdfMapper, ACorruptPatchIsRefusedThenRecovered) {
-  auto launch = run_with_link("{corrupt_index: 1}");
+  auto launch = run_with_link("{corrupt_nth: 1}");
   ASSERT_TRUE(launch);
   auto m = mappers(*launch);
   ASSERT_EQ(m.size(), 2u);
@@ -247,18 +248,19 @@ TEST(TsdfMapper, ACorruptPatchIsRefusedThenRecovered) {
   EXPECT_LT(d.max_distance, 1e-5);
 }
 
-// Robot 2's mapper alone (a robot process), its teammates scripted: robot 3 sends patch P
-// (so robot 2 holds it) and lists it; robot 1 (at x = 10) asks for P at 1 s, 2 s and 3 s;
-// robot 3 (at x = 9) is nearer to it than robot 2 (at the origin); it is lost at 1.5 s and
-// back at 2.5 s. Robot 2's replies are logged.
+// Robot 2's mapper alone (a robot process), its teammates scripted: robot 3 sends patches
+// P0, P1, P2 (robot 4's, which plays no other part) so robot 2 holds them, and lists them; robot 1
+// (at x = 10) asks for P0 at 1 s, P1 at 2 s, and P2 and P0 again at 3 s; robot 3 (at x = 9) is
+// nearer to it than robot 2 (at the origin); it is lost at 1.5 s and back at 2.5 s. Robot 2's
+// replies are logged.
 class HolderScript final : public Component {
  public:
   static constexpr std::string_view kDescription = "test: robots 1 and 3 around robot 2's mapper";
   struct Config {};
   static Config read_config(ParamReader& /*p*/) { return {}; }
   HolderScript(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
-  static uint64_t patch() { return make_patch_id(3, 0); }
-  std::vector<double> replies_s;  // robot 2's replies with P, sim seconds
+  static uint64_t patch(uint32_t k) { return make_patch_id(4, k); }
+  std::vector<std::pair<uint32_t, double>> replies;  // robot 2's: (k of Pk, sim seconds)
 
  private:
   Result<void, std::string> on_configure() override {
@@ -270,8 +272,7 @@ class HolderScript final : public Component {
     request1_ = create_publisher<msg::PatchRequest>("/r1/patch_request");
     create_subscription<msg::TsdfPatch>(
         "/r2/patch_reply", {.depth = 8}, [this](Sample<msg::TsdfPatch>&& s) {
-          if (s->patch_id == patch())
-            replies_s.push_back(static_cast<double>(clock().now_ns()) * 1e-9);
+          replies.emplace_back(s->index, static_cast<double>(clock().now_ns()) * 1e-9);
         });
     create_timer(std::chrono::milliseconds(100), [this] { tick(); });
     return {};
@@ -305,17 +306,19 @@ class HolderScript final : public Component {
       config.max_weight = 100000;
       TsdfMap map(config);
       map.touch(BlockIndex(0, 0, 0)).at(1, 2, 3) = Voxel{.distance_m = 0.05f, .weight = 2.0f};
-      if (auto loan = patch3_.loan()) {
+      for (uint32_t k = 0; k < 3; ++k) {
+        auto loan = patch3_.loan();
+        if (!loan) continue;
         **loan = msg::TsdfPatch{};
-        (*loan)->patch_id = patch();
-        (*loan)->robot_id = 3;
-        (*loan)->index = 0;
+        (*loan)->patch_id = patch(k);
+        (*loan)->robot_id = 4;
+        (*loan)->index = k;
         (*loan)->T_world_patch.orientation.w = 1;
         if (encode_patch(map.blocks(), config, **loan)) (void)patch3_.publish(std::move(*loan));
       }
     } else if (step == 2) {
       if (auto loan = list3_.loan()) {
-        (*loan)->patch_ids = {patch()};
+        (*loan)->patch_ids = {patch(0), patch(1), patch(2)};
         (void)list3_.publish(std::move(*loan));
       }
     } else if (step == 14) {
@@ -325,7 +328,9 @@ class HolderScript final : public Component {
     } else if (step == 9 || step == 19 || step == 29) {
       if (auto loan = request1_.loan()) {
         (*loan)->from_robot = 1;
-        (*loan)->patch_ids = {patch()};
+        (*loan)->patch_ids = step == 9    ? std::vector<uint64_t>{patch(0)}
+                             : step == 19 ? std::vector<uint64_t>{patch(1)}
+                                          : std::vector<uint64_t>{patch(2), patch(0)};
         (void)request1_.publish(std::move(*loan));
       }
     }
@@ -360,16 +365,108 @@ components:
   (*launch)->run();
   auto m = mappers(**launch);
   ASSERT_EQ(m.size(), 1u);  // robot 2's only
-  EXPECT_EQ(m[0]->stats().patches_received, 1u);
-  EXPECT_EQ(m[0]->held_patches(), std::vector<uint64_t>{HolderScript::patch()});
+  EXPECT_EQ(m[0]->stats().patches_received, 3u);
+  EXPECT_EQ(m[0]->held_patches(),
+            (std::vector<uint64_t>{HolderScript::patch(0), HolderScript::patch(1),
+                                   HolderScript::patch(2)}));
   const auto* script = (*launch)->find_component<HolderScript>();
   ASSERT_NE(script, nullptr);
-  // 1 s: robot 3 holds P and is nearer to robot 1: robot 2 is silent; 2 s: robot 3 lost,
-  // robot 2 replies; 3 s: robot 3 back: silent again
-  ASSERT_EQ(script->replies_s.size(), 1u);
-  EXPECT_GT(script->replies_s[0], 1.95);
-  EXPECT_LT(script->replies_s[0], 2.5);
-  EXPECT_EQ(m[0]->stats().replies_sent, 1u);
+  // 1 s: robot 3 holds P0 and is nearer to robot 1: robot 2 is silent; 2 s: robot 3 lost,
+  // robot 2 answers P1; 3 s: robot 3 back: silent on P2, but P0 is asked again (robot 3's
+  // answer did not come, as from a robot out of the asker's range): robot 2 relays it
+  ASSERT_EQ(script->replies.size(), 2u);
+  EXPECT_EQ(script->replies[0].first, 1u);
+  EXPECT_GT(script->replies[0].second, 1.95);
+  EXPECT_LT(script->replies[0].second, 2.5);
+  EXPECT_EQ(script->replies[1].first, 0u);
+  EXPECT_GT(script->replies[1].second, 2.95);
+  EXPECT_EQ(m[0]->stats().replies_sent, 2u);
+}
+
+// Robot 2's mapper alone, just restarted: robot 3 lists its own patch and one that robot 2's
+// old process made (robot 2's id), and answers requests. The restarted mapper asks for both
+// and takes both: nothing its old process made is lost to it.
+class RestartScript final : public Component {
+ public:
+  static constexpr std::string_view kDescription = "test: robot 3 around a restarted robot 2";
+  struct Config {};
+  static Config read_config(ParamReader& /*p*/) { return {}; }
+  RestartScript(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
+  static std::vector<uint64_t> listed() { return {make_patch_id(2, 100), make_patch_id(3, 0)}; }
+
+ private:
+  Result<void, std::string> on_configure() override {
+    pose3_ = create_publisher<msg::Odometry>("/r3/pose_gt");
+    list3_ = create_publisher<msg::PatchList>("/r3/patch_list");
+    reply3_ = create_publisher<msg::TsdfPatch>("/r3/patch_reply", {.pool_size = 4});
+    create_subscription<msg::PatchRequest>(
+        "/r2/patch_request", {.depth = 8},
+        [this](Sample<msg::PatchRequest>&& s) { reply(s->patch_ids); });
+    create_timer(std::chrono::milliseconds(100), [this] { tick(); });
+    return {};
+  }
+  void reply(const std::vector<uint64_t>& ids) {
+    for (const uint64_t id : ids) {
+      TsdfConfig config;
+      config.voxel_m = 0.1;
+      config.truncation_m = 0.3;
+      config.max_weight = 100000;
+      TsdfMap map(config);
+      map.touch(BlockIndex(0, 0, static_cast<int>(id >> 32))).at(1, 2, 3) =
+          Voxel{.distance_m = 0.05f, .weight = 2.0f};
+      if (auto loan = reply3_.loan()) {
+        **loan = msg::TsdfPatch{};
+        (*loan)->patch_id = id;
+        (*loan)->robot_id = static_cast<uint32_t>(id >> 32);
+        (*loan)->index = static_cast<uint32_t>(id);
+        (*loan)->T_world_patch.orientation.w = 1;
+        if (encode_patch(map.blocks(), config, **loan)) (void)reply3_.publish(std::move(*loan));
+      }
+    }
+  }
+  void tick() {
+    if (ticks_++ != 0) return;
+    if (auto loan = pose3_.loan()) {
+      **loan = msg::Odometry{};
+      (*loan)->T_world_body.position.x = 1.0;
+      (*loan)->tracking_quality = 1;
+      (void)pose3_.publish(std::move(*loan));
+    }
+    if (auto loan = list3_.loan()) {
+      (*loan)->patch_ids = listed();
+      (void)list3_.publish(std::move(*loan));
+    }
+  }
+  int ticks_ = 0;
+  Publisher<msg::Odometry> pose3_;
+  Publisher<msg::PatchList> list3_;
+  Publisher<msg::TsdfPatch> reply3_;
+};
+SCANCREW_REGISTER_COMPONENT(RestartScript, "test_patch_restart_script")
+
+TEST(TsdfMapper, ARestartedRobotTakesBackThePatchesItsOldProcessMade) {
+  const std::string text = std::string(R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: 2.0, sim_step_s: 0.05}
+robots:
+  - {id: 2, namespace: r2, kind: ground, start: [0, 0, 0, 0]}
+  - {id: 3, namespace: r3, kind: ground, start: [1, 0, 0, 0]}
+components:
+  - {name: script, type: test_patch_restart_script, per_robot: false, process: robot}
+  - name: mapper
+    type: tsdf_mapper
+    params: {mode: distributed, request_delay_s: 0.5, request_retry_s: 1.0, )") +
+                           kMapParams + "}\n";
+  auto launch = Launch::from_string(text, "tsdf_mapper_restart.yaml",
+                                    LaunchOptions{.process = "robot", .robot_id = 2});
+  ASSERT_TRUE(launch) << launch.error().front();
+  (*launch)->run();
+  auto m = mappers(**launch);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0]->held_patches(), RestartScript::listed());
+  EXPECT_EQ(m[0]->stats().patches_received, 2u);
+  EXPECT_EQ(m[0]->stats().duplicates, 0u);
 }
 
 TEST(TsdfMapper, ACentralizedMapperIntegratesEveryRobot) {
@@ -434,6 +531,14 @@ TEST(TsdfMapper, RobotsAtRestSendPatchesAtDoublingIntervalsLosingNoEvidence) {
   for (TsdfMapper* mapper : m) {
     EXPECT_EQ(mapper->held_patches().size(), made);
     EXPECT_EQ(mapper->stats().requests_sent, 0u);
+    // a patch's index is its last image's stamp in ms (images every 200 ms here): the 5th,
+    // 10th, 20th, 40th and 80th image
+    std::vector<uint32_t> own;
+    for (const uint64_t id : mapper->held_patches())
+      if (id >> 32 == mapper->robot_id()) own.push_back(static_cast<uint32_t>(id));
+    ASSERT_EQ(own.size(), 5u);
+    for (size_t k = 1; k < own.size(); ++k)
+      EXPECT_EQ(own[k] - own[0], 200u * ((5u << k) - 5u)) << "patch " << k;
   }
   // each robot's snapshot holds the team's patches and its own held-back images: the two
   // robots' maps cover the same voxels and agree in their states
