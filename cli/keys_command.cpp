@@ -51,11 +51,14 @@ std::string place_of(const KeysOptions& o) {
 
 }  // namespace
 
-Result<dds_bridge::PlaceGrant, std::string> grant_from_launch(const std::string& launch_text,
-                                                              const std::string& label,
-                                                              const std::string& place) {
+Result<dds_bridge::PlaceGrant, std::string> grant_from_launch(
+    const std::string& launch_text, const std::string& label, const std::string& place,
+    const std::vector<std::string>& overrides) {
   auto root = parse_yaml(launch_text, label);
   if (!root) return make_unexpected(root.error());
+  // the bridges' topics as the launch runs them (`--set bridge.export_topics=...`)
+  if (const auto errors = apply_launch_overrides(*root, overrides, label); !errors.empty())
+    return make_unexpected(errors.front());
   std::vector<TeamMember> team;
   if (const YAML::Node robots = (*root)["robots"]; robots.IsSequence())
     for (const YAML::Node& r : robots) {
@@ -145,7 +148,7 @@ int run_keys_add(const KeysOptions& o) {
     std::fprintf(stderr, "scancrew keys add: %s\n", log::printable(text.error()).c_str());
     return 1;
   }
-  auto grant = grant_from_launch(*text, o.launch, place);
+  auto grant = grant_from_launch(*text, o.launch, place, o.overrides);
   if (!grant) {
     std::fprintf(stderr, "scancrew keys add: %s\n", log::printable(grant.error()).c_str());
     return 1;

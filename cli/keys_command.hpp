@@ -22,6 +22,7 @@ struct KeysOptions {
   std::string launch;
   int64_t robot = -1;  // --robot K
   bool station = false, sim = false;
+  std::vector<std::string> overrides;  // --set name.key=value, as the launch is run with
 };
 
 int run_keys_init(const KeysOptions& options);
@@ -29,9 +30,10 @@ int run_keys_add(const KeysOptions& options);
 
 // The grant of a place from a launch file's dds_bridge components: each bridge (per robot,
 // or the station's or the simulator's) whose place is `place` adds its exports, expanded for
-// its robot and prefixed as on the wire, to publish, and its imports to subscribe.
-Result<dds_bridge::PlaceGrant, std::string> grant_from_launch(const std::string& launch_text,
-                                                              const std::string& label,
-                                                              const std::string& place);
+// its robot and prefixed as on the wire, to publish, and its imports to subscribe; with the
+// launch's `--set` overrides applied first.
+Result<dds_bridge::PlaceGrant, std::string> grant_from_launch(
+    const std::string& launch_text, const std::string& label, const std::string& place,
+    const std::vector<std::string>& overrides = {});
 
 }  // namespace scancrew::cli

@@ -15,6 +15,51 @@
 
 namespace scancrew {
 
+std::vector<std::string> apply_launch_overrides(YAML::Node& root,
+                                                const std::vector<std::string>& overrides,
+                                                const std::string& file) {
+  std::vector<std::string> errors;
+  for (const std::string& o : overrides) {
+    const auto eq = o.find('=');
+    const auto dot = o.find('.');
+    if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 ||
+        dot + 1 == eq) {
+      errors.push_back("--set " + o + ": expected name.key=value (a component's name or " +
+                       "run / executor / security, then the parameter)");
+      continue;
+    }
+    const std::string name = o.substr(0, dot), key = o.substr(dot + 1, eq - dot - 1);
+    YAML::Node value;
+    try {
+      value = YAML::Load(o.substr(eq + 1));
+    } catch (const YAML::Exception& e) {
+      errors.push_back("--set " + o + ": the value is not YAML: " + e.msg);
+      continue;
+    }
+    if (name == "run" || name == "executor" || name == "security") {
+      if (!root[name].IsDefined() || root[name].IsNull())
+        root[name] = YAML::Node(YAML::NodeType::Map);
+      root[name][key] = value;
+      continue;
+    }
+    bool found = false;
+    YAML::Node components = root["components"];
+    if (components.IsSequence())
+      for (size_t i = 0; i < components.size(); ++i) {
+        YAML::Node c = components[i];
+        if (!c.IsMap() || !c["name"].IsScalar() || c["name"].Scalar() != name) continue;
+        if (!c["params"].IsDefined() || c["params"].IsNull())
+          c["params"] = YAML::Node(YAML::NodeType::Map);
+        c["params"][key] = value;
+        found = true;
+      }
+    if (!found)
+      errors.push_back("--set " + o + ": no component named '" + name +
+                       "' (nor run / executor / security) in " + file);
+  }
+  return errors;
+}
+
 namespace {
 
 using RobotSpec = TeamMember;
@@ -76,44 +121,8 @@ class LaunchBuilder {
   // --set name.key=value: onto the YAML tree before it is read, so that the value goes
   // through the same checks as the file's own.
   void apply_overrides(YAML::Node& root) {
-    for (const std::string& o : options_.overrides) {
-      const auto eq = o.find('=');
-      const auto dot = o.find('.');
-      if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 ||
-          dot + 1 == eq) {
-        errors_.push_back("--set " + o + ": expected name.key=value (a component's name or " +
-                          "run / executor / security, then the parameter)");
-        continue;
-      }
-      const std::string name = o.substr(0, dot), key = o.substr(dot + 1, eq - dot - 1);
-      YAML::Node value;
-      try {
-        value = YAML::Load(o.substr(eq + 1));
-      } catch (const YAML::Exception& e) {
-        errors_.push_back("--set " + o + ": the value is not YAML: " + e.msg);
-        continue;
-      }
-      if (name == "run" || name == "executor" || name == "security") {
-        if (!root[name].IsDefined() || root[name].IsNull())
-          root[name] = YAML::Node(YAML::NodeType::Map);
-        root[name][key] = value;
-        continue;
-      }
-      bool found = false;
-      YAML::Node components = root["components"];
-      if (components.IsSequence())
-        for (size_t i = 0; i < components.size(); ++i) {
-          YAML::Node c = components[i];
-          if (!c.IsMap() || !c["name"].IsScalar() || c["name"].Scalar() != name) continue;
-          if (!c["params"].IsDefined() || c["params"].IsNull())
-            c["params"] = YAML::Node(YAML::NodeType::Map);
-          c["params"][key] = value;
-          found = true;
-        }
-      if (!found)
-        errors_.push_back("--set " + o + ": no component named '" + name +
-                          "' (nor run / executor / security) in " + file_);
-    }
+    auto errors = apply_launch_overrides(root, options_.overrides, file_);
+    errors_.insert(errors_.end(), errors.begin(), errors.end());
   }
 
   void merge(const ParamReader& reader) {

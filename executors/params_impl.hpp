@@ -39,6 +39,12 @@ inline constexpr uintmax_t kMaxTextFileBytes = uintmax_t{64} << 20;
 // /dev/zero, a pipe, a directory) or is over kMaxTextFileBytes.
 Result<std::string, std::string> read_text_file(const std::string& path);
 
+// Applies `--set name.key=value` overrides onto a launch file's tree (a component's params,
+// or the run / executor / security section) before it is read; the errors, one per bad one.
+std::vector<std::string> apply_launch_overrides(YAML::Node& root,
+                                                const std::vector<std::string>& overrides,
+                                                const std::string& file);
+
 ParamReader make_param_reader(const YAML::Node& node, const std::string& file,
                               const std::string& path,
                               std::vector<std::pair<std::string, std::string>> substitutions = {});
