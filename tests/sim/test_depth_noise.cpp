@@ -27,8 +27,10 @@ Stats stats_of(const std::vector<float>& v, uint32_t w, uint32_t h) {
 }
 
 TEST(DepthNoise, SigmaFollowsTheThesisModel) {
-  // sigma(z) = |e_d| z^2 / (f B): table 2.1 values, z = 4 m
-  EXPECT_NEAR(depth_sigma_m(4.0, 0.1, 376, 0.11), 0.1 * 16 / (376 * 0.11), 1e-12);
+  // sigma(z) = |e_d| z^2 / (f B) with Table 2.1's e_d 0.1 px, f 376 px, B 0.11 m: 3.87 cm at
+  // 4 m and 15.47 cm at the Powerplant's far range, 8 m (worked by hand)
+  EXPECT_NEAR(depth_sigma_m(4.0, 0.1, 376, 0.11), 0.038685, 1e-6);
+  EXPECT_NEAR(depth_sigma_m(8.0, 0.1, 376, 0.11), 0.154739, 1e-6);
   EXPECT_DOUBLE_EQ(depth_sigma_m(2.0, -0.1, 100, 0.1), depth_sigma_m(2.0, 0.1, 100, 0.1));
 }
 
