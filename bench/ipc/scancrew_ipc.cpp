@@ -83,6 +83,8 @@ IpcResult run_case(size_t payload, bool cross_thread, const IpcOptions& options)
     (void)pub.publish(std::move(*loan));
     if (!cross_thread) {
       executor.spin_some();
+      // counted like the peers' same-thread cases: a sample not taken by the spin is lost
+      if (received.load(std::memory_order_acquire) == before) ++result.lost;
     } else {
       const int64_t give_up = monotonic_now_ns() + 1'000'000'000;
       while (received.load(std::memory_order_acquire) == before && monotonic_now_ns() < give_up) {
