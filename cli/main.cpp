@@ -249,9 +249,12 @@ int main(int argc, char** argv) {
   auto* keys_sim = keys_add->add_flag("--sim", keys_options.sim, "the simulator");
   keys_robot->excludes(keys_station)->excludes(keys_sim);
   keys_station->excludes(keys_sim);
-  keys_add->add_option("--set", keys_options.overrides,
-                       "name.key=value: a launch override, as the place runs with it (a "
-                       "bridge's topics)");
+  keys_add
+      ->add_option("--set", keys_options.overrides,
+                   "name.key=value: a launch override, as the place runs with it (a "
+                   "bridge's topics)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 
   std::string report_dir;
   auto* report = app.add_subcommand(

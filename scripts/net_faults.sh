@@ -56,9 +56,11 @@ if [ "$fault" = range ] && ! { grep -qw 1 <<<"$robots" && grep -qw 2 <<<"$robots
   echo "net_faults.sh: range needs robots 1, 2 and 3" >&2
   exit 2
 fi
+if [ "$fault" = netem ] || [ "$fault" = range ]; then
+  command -v iptables >/dev/null || { echo "net_faults.sh: no iptables" >&2; exit 2; }
+fi
 if [ "$fault" = netem ]; then
   [ -x "$delay_bin" ] || { echo "net_faults.sh: no net_delay at $delay_bin (libnetfilter-queue-dev)" >&2; exit 2; }
-  command -v iptables >/dev/null || { echo "net_faults.sh: no iptables" >&2; exit 2; }
 fi
 bin=$(realpath "$bin")
 mkdir -p "$out"
@@ -171,9 +173,16 @@ while kill -0 "$sim_pid" 2>/dev/null; do
 done
 wait "$sim_pid"
 sim_status=$?
+# a fault the run ended before is no test of it
+fault_missed=""
 if [ "$fault" = reboot ] && [ "$healed" = 0 ]; then
-  echo "net_faults.sh: the team finished before robot 2 was started again (set REBOOT_AT earlier or REBOOT_AFTER shorter)" | tee -a "$out/faults.txt" >&2
+  fault_missed="the team finished before robot 2 was started again (set REBOOT_AT earlier or REBOOT_AFTER shorter)"
+elif { [ "$fault" = partition ] || [ "$fault" = range ]; } && [ -z "$cut_at" ]; then
+  fault_missed="the team finished before the fault was applied (set PART_AT or RANGE_AT earlier)"
+elif [ "$fault" = partition ] && [ "$healed" = 0 ]; then
+  fault_missed="the team finished before the partition healed (set PART_S shorter)"
 fi
+[ -n "$fault_missed" ] && echo "net_faults.sh: $fault_missed" | tee -a "$out/faults.txt" >&2
 sleep 3  # the robots write their meshes and last log lines when the leader stops
 for p in "${pids[@]}"; do kill -INT "$p" 2>/dev/null; done
 wait 2>/dev/null
@@ -205,4 +214,4 @@ for k in $robots; do
 done
 complete=$(tr '\r' '\n' <"$out/sim.log" | grep -c "^mission complete")
 echo "net_faults.sh: complete=$complete converged=$converged; patches held at most $total, missing per robot$missing_all (in flight at the stop: at most $teammates)" | tee -a "$out/faults.txt"
-[ "$sim_status" = 0 ] && [ "$complete" -ge 1 ] && [ "$converged" = 1 ]
+[ "$sim_status" = 0 ] && [ "$complete" -ge 1 ] && [ "$converged" = 1 ] && [ -z "$fault_missed" ]

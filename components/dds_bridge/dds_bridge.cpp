@@ -67,15 +67,16 @@ Result<void, std::string> DdsBridge::on_configure() {
     }
     // checked before queueing: a sample over max_sample_bytes (its payload, or a type name
     // longer than any wire type's) is not kept, its envelope is, to be counted; the lockstep's
-    // receive marks count a sample only from the participant that announced its robot, in
-    // the team (received, whether or not it is then accepted)
+    // receive marks count a sample only from a participant that announced its robot, in the
+    // team (received, whether or not it is then accepted: a restarted robot's new process,
+    // refused until its old one leaves, does not send those samples again)
     const bool oversize =
         envelope.payload.size() > config_.max_sample_bytes || envelope.type_name.size() > 256;
     if (oversize) {
       envelope.payload = {};
       envelope.type_name.clear();
     }
-    if (envelope.sender_robot_id == envelope.robot_id && in_team(rules_, envelope.robot_id)) {
+    if (envelope.claimed_robot_id == envelope.robot_id && in_team(rules_, envelope.robot_id)) {
       const std::lock_guard lock(sync_mutex_);
       uint64_t& max = received_max_[{envelope.robot_id, reader}];
       max = std::max(max, envelope.seq);
@@ -112,6 +113,20 @@ Result<void, std::string> DdsBridge::on_configure() {
     }
     std::lock_guard lock(inbox_mutex_);
     peer_events_.push_back({id, alive, std::string(why)});
+  };
+  // a restarted robot's new process numbers its samples from 1 again: its lockstep state
+  // starts again now, and the executor's next tick, before it takes any of the new process's
+  // samples, starts its duplicate test again and drops what its old process wrote that no
+  // step released
+  callbacks.on_new_process = [this](uint32_t id) {
+    {
+      const std::lock_guard lock(sync_mutex_);
+      std::erase_if(received_max_, [&](const auto& kv) { return kv.first.first == id; });
+      std::erase_if(released_, [&](const auto& kv) { return kv.first.first == id; });
+      syncs_.erase(id);
+    }
+    std::lock_guard lock(inbox_mutex_);
+    restarts_.push_back(id);
   };
   callbacks.on_warning = [this](const std::string& message) { warn_once(message); };
   auto link = DdsLink::create(dds, std::move(callbacks));
@@ -320,14 +335,18 @@ void DdsBridge::send(size_t index, std::span<const uint8_t> bytes) {
 
 void DdsBridge::tick() {
   std::vector<PeerEvent> events;
+  std::vector<uint32_t> restarts;
   {
     std::lock_guard lock(inbox_mutex_);
+    restarts.swap(restarts_);
     drained_.insert(drained_.end(), std::make_move_iterator(inbox_.begin()),
                     std::make_move_iterator(inbox_.end()));
     inbox_.clear();
     inbox_wire_bytes_ = 0;
     events.swap(peer_events_);
   }
+  // before the samples: a new process's follow its announcement
+  for (const uint32_t id : restarts) restart_sender(id);
   if (!held_.empty()) {  // lockstep: samples held back until their step released them
     std::vector<Incoming> held;
     held.swap(held_);
@@ -360,6 +379,20 @@ void DdsBridge::tick() {
     pending_.pop();
   }
   for (const PeerEvent& e : events) handle_peer(e);
+}
+
+// Executor thread: robot `id` runs a new process (restarted), whose samples follow: its
+// sequence numbers start again, and its old process's samples that no step released go.
+void DdsBridge::restart_sender(uint32_t id) {
+  std::erase_if(last_seq_, [&](const auto& kv) { return kv.first.first == id; });
+  const size_t dropped =
+      std::erase_if(held_, [&](const Incoming& in) { return in.envelope.robot_id == id; });
+  SCANCREW_LOG_INFO("%s: robot %u runs a new process (restarted): its numbering starts again%s",
+                    qualified_name().c_str(), id,
+                    dropped == 0 ? ""
+                                 : ("; " + std::to_string(dropped) +
+                                    " samples of its old process that no step released dropped")
+                                       .c_str());
 }
 
 void DdsBridge::admit(Incoming&& in) {

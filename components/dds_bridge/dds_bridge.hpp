@@ -174,6 +174,7 @@ class DdsBridge final : public Component {
   Result<void, std::string> make_lockstep();
   void on_sync(WireEnvelope&& envelope);
   void handle_peer(const PeerEvent& event);
+  void restart_sender(uint32_t id);
   void reject(TopicCounters& counters, Reject reason, const std::string& detail);
   void warn_once(const std::string& message);
 
@@ -197,6 +198,7 @@ class DdsBridge final : public Component {
   std::deque<Incoming> inbox_;
   uint64_t inbox_wire_bytes_ = 0;  // of the samples kept in inbox_
   std::vector<PeerEvent> peer_events_;
+  std::vector<uint32_t> restarts_;          // robots whose new process announced itself (restarted)
   std::map<size_t, uint64_t> inbox_drops_;  // per DDS reader
   uint64_t taken_ = 0;
 

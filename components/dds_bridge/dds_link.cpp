@@ -36,6 +36,9 @@ using eprosima::fastrtps::types::ReturnCode_t;
 
 namespace {
 
+// The shortest participant lease (s) the bridge sets, whatever liveliness_lease_s.
+constexpr double kMinParticipantLeaseS = 1.0;
+
 Duration_t duration(double seconds) {
   const double whole = std::floor(seconds);
   return {static_cast<int32_t>(whole),
@@ -95,8 +98,7 @@ struct DdsLink::Impl {
 
   // presence: which robot each peer's presence writer belongs to, and who is alive; the robot
   // id each participant announced at discovery (the first participant to announce an id
-  // keeps it while it is in the domain and alive: a later one takes over a lost holder's id,
-  // as a restarted robot's new process does)
+  // keeps it while it is in the domain; its participant lease is liveliness_lease_s)
   mutable std::mutex peers_mutex;
   std::map<rtps::GuidPrefix_t, uint32_t> claimed_by;  // the id each participant announced
   // per id, the participants that announced it, in order: the first holds it
@@ -105,6 +107,8 @@ struct DdsLink::Impl {
   std::map<fdds::InstanceHandle_t, uint32_t> robot_of_writer;
   // per id, the participant whose presence counted last (another one now: a new process)
   std::map<uint32_t, rtps::GuidPrefix_t> seen_holder;
+  // per id, the participant that announced it last (another one: a new process)
+  std::map<uint32_t, rtps::GuidPrefix_t> last_claimant;
   std::set<uint32_t> alive;
   std::set<uint32_t> lost;
   // security: the participants authenticated so far, and the claims of those not (yet)
@@ -131,6 +135,12 @@ struct DdsLink::Impl {
   uint32_t sender(const rtps::GuidPrefix_t& participant) const {
     std::lock_guard lock(peers_mutex);
     return sender_locked(participant);
+  }
+  // The robot id the participant announced, held or not; kUnknownSender if none.
+  uint32_t claimed(const rtps::GuidPrefix_t& participant) const {
+    std::lock_guard lock(peers_mutex);
+    const auto it = claimed_by.find(participant);
+    return it == claimed_by.end() ? kUnknownSender : it->second;
   }
   uint32_t sender_locked(const rtps::GuidPrefix_t& participant) const {
     const auto it = claimed_by.find(participant);
@@ -205,23 +215,18 @@ struct DdsLink::Impl {
       claimed_by[participant] = *robot_id;
       auto& queue = claimants[*robot_id];
       queue.push_back(participant);
-      if (queue.front() != participant && !take_over_locked(*robot_id))
+      if (queue.front() != participant)
         warning = "a second DDS participant announces robot " + std::to_string(*robot_id) +
-                  " while the first is alive: its samples are refused until the first is lost "
-                  "(silent for liveliness_lease_s) or leaves";
+                  " while the first is in the domain: its samples are refused until the first "
+                  "leaves (silent for liveliness_lease_s, or gone)";
+      // a participant that announces an id another announced before is a new process of that
+      // robot (restarted): the bridge starts its per-sender state again, before its samples
+      const auto last = last_claimant.find(*robot_id);
+      const bool new_process = last != last_claimant.end() && !(last->second == participant);
+      last_claimant[*robot_id] = participant;
+      if (new_process && callbacks.on_new_process) callbacks.on_new_process(*robot_id);
     }
     if (!warning.empty() && callbacks.on_warning) callbacks.on_warning(warning);
-  }
-
-  // When the participant holding an id is lost (its presence silent past the liveliness lease)
-  // and another one announced the id (a restarted robot's new process), the next one takes it
-  // over: the lost one goes to the back of the queue. Returns true if the holder changed.
-  // peers_mutex held.
-  bool take_over_locked(uint32_t robot_id) {
-    auto& queue = claimants[robot_id];
-    if (queue.size() < 2 || !lost.contains(robot_id)) return false;
-    std::rotate(queue.begin(), queue.begin() + 1, queue.end());
-    return true;
   }
 
   // The presence of an id's new holder, kept while it did not hold the id; taken (it counts
@@ -299,41 +304,31 @@ struct DdsLink::Impl {
       seen_holder[robot_id] = participant;
       joined = alive.insert(robot_id).second;
       back = lost.erase(robot_id) > 0;
+      if (joined && callbacks.on_peer)
+        callbacks.on_peer(robot_id, true,
+                          restarted ? "back (a new process: it restarted)"
+                          : back    ? "back"
+                                    : "joined");
     }
-    if (joined && callbacks.on_peer)
-      callbacks.on_peer(robot_id, true,
-                        restarted ? "back (a new process: it restarted)"
-                        : back    ? "back"
-                                  : "joined");
   }
 
   void peer_gone(const fdds::InstanceHandle_t& writer, std::string_view why) {
-    uint32_t robot_id = 0;
-    std::optional<std::pair<rtps::GuidPrefix_t, fdds::InstanceHandle_t>> promoted;
-    {
-      std::lock_guard lock(peers_mutex);
-      auto it = robot_of_writer.find(writer);
-      if (it == robot_of_writer.end()) return;  // never announced itself (or our own)
-      robot_id = it->second;
-      if (alive.erase(robot_id) == 0) return;  // already reported
-      lost.insert(robot_id);
-      // a restarted robot's new process that announced the id meanwhile takes it over
-      if (take_over_locked(robot_id)) promoted = holder_presence_locked(robot_id);
-    }
+    std::lock_guard lock(peers_mutex);
+    auto it = robot_of_writer.find(writer);
+    if (it == robot_of_writer.end()) return;  // never announced itself (or our own)
+    const uint32_t robot_id = it->second;
+    if (alive.erase(robot_id) == 0) return;  // already reported
+    lost.insert(robot_id);
     if (callbacks.on_peer) callbacks.on_peer(robot_id, false, why);
-    if (promoted) peer_seen(promoted->first, promoted->second, robot_id);
   }
 
   void peer_alive_again(const fdds::InstanceHandle_t& writer) {
-    uint32_t robot_id = 0;
-    {
-      std::lock_guard lock(peers_mutex);
-      auto it = robot_of_writer.find(writer);
-      if (it == robot_of_writer.end()) return;
-      robot_id = it->second;
-      if (!alive.insert(robot_id).second) return;
-      lost.erase(robot_id);
-    }
+    std::lock_guard lock(peers_mutex);
+    auto it = robot_of_writer.find(writer);
+    if (it == robot_of_writer.end()) return;
+    const uint32_t robot_id = it->second;
+    if (!alive.insert(robot_id).second) return;
+    lost.erase(robot_id);
     if (callbacks.on_peer) callbacks.on_peer(robot_id, true, "back");
   }
 };
@@ -385,6 +380,7 @@ class DataListener final : public fdds::DataReaderListener {
         const size_t bytes = scancrew::dds::Envelope::getCdrSerializedSize(envelope) + 4;
         WireEnvelope wire = from_dds(std::move(envelope));
         wire.sender_robot_id = impl_->sender(info.sample_identity.writer_guid().guidPrefix);
+        wire.claimed_robot_id = impl_->claimed(info.sample_identity.writer_guid().guidPrefix);
         if (impl_->callbacks.on_sample) impl_->callbacks.on_sample(index_, std::move(wire), bytes);
         envelope = scancrew::dds::Envelope{};
       }
@@ -520,10 +516,12 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
   // reader asserting one remote writer's liveliness asserts every automatic writer it tracks,
   // whoever's: LivelinessManager::assert_liveliness), so a killed robot among live ones was
   // reported lost only at the default 20 s participant lease. Announced 5 times per lease: 5
-  // in a row lost (1e-5 at 10 % loss) reports a live robot lost
-  pqos.wire_protocol().builtin.discovery_config.leaseDuration = duration(config.liveliness_lease_s);
+  // in a row lost (1e-5 at 10 % loss) reports a live robot lost. At least 1 s: a process
+  // stalled for less (a loaded machine, a sanitizer build) is not taken for dead
+  const double participant_lease_s = std::max(config.liveliness_lease_s, kMinParticipantLeaseS);
+  pqos.wire_protocol().builtin.discovery_config.leaseDuration = duration(participant_lease_s);
   pqos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod =
-      duration(config.liveliness_lease_s / 5);
+      duration(participant_lease_s / 5);
   const std::string& t = config.transport;
   if (t != "builtin") pqos.transport().use_builtin_transports = false;
   if (t == "loopback") {

@@ -84,6 +84,10 @@ struct WireEnvelope {
   // participant in the domain had announced that id first. check_envelope() refuses an
   // envelope whose robot_id is not this one.
   uint32_t sender_robot_id = kUnknownSender;
+  // The robot id the sending participant announced, whether or not it holds it (a restarted
+  // robot's new process before the old one left): the lockstep counts such a sample as
+  // received (refused, it will not come again).
+  uint32_t claimed_robot_id = kUnknownSender;
 };
 
 // A bridge participant's user data: who it is and its partitions, announced at discovery
@@ -102,7 +106,12 @@ class DdsLink {
     std::function<void(size_t reader, WireEnvelope&& envelope, size_t wire_bytes)> on_sample;
     // A peer robot lost (alive = false) or back (alive = true); `why` says how. Presence
     // counts only from the participant that announced the robot at discovery.
+    // Called under the link's peer lock, so events come in order: the callback must not call
+    // into the link.
     std::function<void(uint32_t robot_id, bool alive, std::string_view why)> on_peer;
+    // Another participant than the last one announced the robot (a restarted robot's new
+    // process): before any of its samples. Under the peer lock, like on_peer.
+    std::function<void(uint32_t robot_id)> on_new_process;
     // A problem worth one log line (incompatible QoS, a sample DDS could not read).
     std::function<void(const std::string& message)> on_warning;
   };
