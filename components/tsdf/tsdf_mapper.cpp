@@ -363,13 +363,20 @@ void TsdfMapper::on_patch(const msg::TsdfPatch& patch) {
 }
 
 void TsdfMapper::on_patch_list(uint32_t from, const msg::PatchList& list) {
+  // kept sorted in one block (a list arrives about once a second per teammate and holds
+  // every patch of the team: no node per id)
+  std::vector<uint64_t>* holds = nullptr;
   for (Teammate& t : teammates_)
-    if (t.id == from) t.holds = {list.patch_ids.begin(), list.patch_ids.end()};
-  // what the lister holds was answered: its asks are forgotten
-  const std::set<uint64_t> listed(list.patch_ids.begin(), list.patch_ids.end());
-  std::erase_if(asks_, [&](const auto& kv) {
-    return kv.first.first == from && listed.contains(kv.first.second);
-  });
+    if (t.id == from) holds = &t.holds;
+  if (holds != nullptr) {
+    holds->assign(list.patch_ids.begin(), list.patch_ids.end());
+    if (!std::is_sorted(holds->begin(), holds->end())) std::sort(holds->begin(), holds->end());
+    // what the lister holds was answered: its asks are forgotten
+    std::erase_if(asks_, [&](const auto& kv) {
+      return kv.first.first == from &&
+             std::binary_search(holds->begin(), holds->end(), kv.first.second);
+    });
+  }
   const int64_t now = clock().now_ns();
   // this robot's own ids among them too: its old process's patches, after a restart
   for (uint64_t id : list.patch_ids)
@@ -419,7 +426,8 @@ void TsdfMapper::on_request(const msg::PatchRequest& request) {
     std::vector<std::pair<double, uint32_t>> holders{
         {(position_of(robot_id()) - asker).norm(), robot_id()}};
     for (const Teammate& t : teammates_)
-      if (t.id != request.from_robot && !t.lost && t.holds.contains(id) && t.has_position)
+      if (t.id != request.from_robot && !t.lost && t.has_position &&
+          std::binary_search(t.holds.begin(), t.holds.end(), id))
         holders.emplace_back((t.position - asker).norm(), t.id);
     if (holders.size() > 1)
       std::erase_if(holders, [&](const auto& h) { return h.second == author; });

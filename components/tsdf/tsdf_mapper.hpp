@@ -120,7 +120,7 @@ class TsdfMapper final : public Component {
     std::string ns;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     bool has_position = false;
-    std::set<uint64_t> holds;  // from its last patch list
+    std::vector<uint64_t> holds;  // from its last patch list, sorted
     bool lost = false;         // its latest robot_state is kLost
   };
 
