@@ -121,7 +121,7 @@ class TsdfMapper final : public Component {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     bool has_position = false;
     std::vector<uint64_t> holds;  // from its last patch list, sorted
-    bool lost = false;         // its latest robot_state is kLost
+    bool lost = false;            // its latest robot_state is kLost
   };
 
   Result<void, std::string> on_configure() override;
