@@ -248,6 +248,23 @@ TEST(TsdfMapper, ACorruptPatchIsRefusedThenRecovered) {
   EXPECT_LT(d.max_distance, 1e-5);
 }
 
+// A patch `id` (robot id << 32 | index) holding one observed voxel in block (0, 0, block_z),
+// encoded as a mapper with 0.1 m voxels sends it; false if it does not encode.
+bool one_voxel_patch(uint64_t id, int block_z, msg::TsdfPatch& out) {
+  TsdfConfig config;
+  config.voxel_m = 0.1;
+  config.truncation_m = 0.3;
+  config.max_weight = 100000;
+  TsdfMap map(config);
+  map.touch(BlockIndex(0, 0, block_z)).at(1, 2, 3) = Voxel{.distance_m = 0.05f, .weight = 2.0f};
+  out = msg::TsdfPatch{};
+  out.patch_id = id;
+  out.robot_id = static_cast<uint32_t>(id >> 32);
+  out.index = static_cast<uint32_t>(id);
+  out.T_world_patch.orientation.w = 1;
+  return encode_patch(map.blocks(), config, out).has_value();
+}
+
 // Robot 2's mapper alone (a robot process), its teammates scripted: robot 3 sends patches
 // P0, P1, P2 (robot 4's, which plays no other part) so robot 2 holds them, and lists them; robot 1
 // (at x = 10) asks for P0 at 1 s, P1 at 2 s, and P2 and P0 again at 3 s; robot 3 (at x = 9) is
@@ -300,22 +317,9 @@ class HolderScript final : public Component {
       pose(pose3_, 9.0);
       state(msg::RobotState::Mode::kMoving);
     } else if (step == 1) {
-      TsdfConfig config;
-      config.voxel_m = 0.1;
-      config.truncation_m = 0.3;
-      config.max_weight = 100000;
-      TsdfMap map(config);
-      map.touch(BlockIndex(0, 0, 0)).at(1, 2, 3) = Voxel{.distance_m = 0.05f, .weight = 2.0f};
-      for (uint32_t k = 0; k < 3; ++k) {
-        auto loan = patch3_.loan();
-        if (!loan) continue;
-        **loan = msg::TsdfPatch{};
-        (*loan)->patch_id = patch(k);
-        (*loan)->robot_id = 4;
-        (*loan)->index = k;
-        (*loan)->T_world_patch.orientation.w = 1;
-        if (encode_patch(map.blocks(), config, **loan)) (void)patch3_.publish(std::move(*loan));
-      }
+      for (uint32_t k = 0; k < 3; ++k)
+        if (auto loan = patch3_.loan(); loan && one_voxel_patch(patch(k), 0, **loan))
+          (void)patch3_.publish(std::move(*loan));
     } else if (step == 2) {
       if (auto loan = list3_.loan()) {
         (*loan)->patch_ids = {patch(0), patch(1), patch(2)};
@@ -407,21 +411,9 @@ class RestartScript final : public Component {
   }
   void reply(const std::vector<uint64_t>& ids) {
     for (const uint64_t id : ids) {
-      TsdfConfig config;
-      config.voxel_m = 0.1;
-      config.truncation_m = 0.3;
-      config.max_weight = 100000;
-      TsdfMap map(config);
-      map.touch(BlockIndex(0, 0, static_cast<int>(id >> 32))).at(1, 2, 3) =
-          Voxel{.distance_m = 0.05f, .weight = 2.0f};
-      if (auto loan = reply3_.loan()) {
-        **loan = msg::TsdfPatch{};
-        (*loan)->patch_id = id;
-        (*loan)->robot_id = static_cast<uint32_t>(id >> 32);
-        (*loan)->index = static_cast<uint32_t>(id);
-        (*loan)->T_world_patch.orientation.w = 1;
-        if (encode_patch(map.blocks(), config, **loan)) (void)reply3_.publish(std::move(*loan));
-      }
+      if (auto loan = reply3_.loan();
+          loan && one_voxel_patch(id, static_cast<int>(id >> 32), **loan))
+        (void)reply3_.publish(std::move(*loan));
     }
   }
   void tick() {
