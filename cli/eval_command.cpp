@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "cli/commands.hpp"
 #include "eval/missed_points.hpp"
 #include "eval/ply_mesh.hpp"
 #include "eval/reconstruction_error.hpp"
@@ -170,6 +171,28 @@ int run_eval(const EvalOptions& o) {
                 r->mean_error_m, r->std_error_m, r->rmse_m, eval_s);
   if (misses) print_miss_profile(*misses, r->gt_points);
   return 0;
+}
+
+void add_eval_command(CLI::App& app, CommandTable& table) {
+  auto [eval, o] = table.add_with_options<EvalOptions>(
+      app, "eval", "score a reconstructed mesh against a scene's ground truth: coverage, error",
+      run_eval);
+  eval->add_option("--mesh", o->mesh_path, "reconstructed mesh (.ply)")->required();
+  eval->add_option("--scene", o->scene_path, "scene file (YAML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  eval->add_option("--voxel", o->voxel_size_m,
+                   "voxel size r_v, m; e_max = r_v*sqrt(3)/2 (default 0.2)")
+      ->check(CLI::Range(1e-4, 100.0));
+  eval->add_option("--density", o->density_per_m2, "ground-truth points per m2 (default 10000)");
+  eval->add_option("--seed", o->seed, "ground-truth random seed (default 1)");
+  eval->add_option("--visibility-rays", o->visibility_rays,
+                   "ground truth: ray directions per point of the mesh visibility test, 0: off "
+                   "(default 64)")
+      ->check(CLI::Range(0, 100000));
+  eval->add_option("--missed", o->missed_path,
+                   "write the ground-truth points not covered to this PLY (with normals)");
+  eval->add_flag("--json", o->json, "print one JSON object");
 }
 
 }  // namespace scancrew::cli

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "cli/child_process.hpp"
+#include "cli/commands.hpp"
 #include "cli/explore_table.hpp"
 #include "cli/explore_targets.hpp"
 #include "cli/mission_compose.hpp"
@@ -406,6 +407,28 @@ int run_explore_bench(const ExploreOptions& o) {
                  runs.size(), asserted);
   }
   return 0;
+}
+
+void add_explore_command(CLI::App& bench, CommandTable& table) {
+  auto [explore, o] = table.add_with_options<ExploreOptions>(
+      bench, "explore",
+      "the exploration benchmark: thesis and procedural scenes x teams x architectures, "
+      "compute charged, default parameters (docs/results/explore.md)",
+      run_explore_bench);
+  explore->add_flag("--json", o->json, "print every run and the rows as JSON");
+  explore->add_flag("--quick", o->quick,
+                    "2 small procedural scenes, short budgets (CI); checks the metrics");
+  explore->add_option("--jobs", o->jobs, "runs at a time (default: the cores)")
+      ->check(CLI::Range(1, 64));
+  explore->add_option("--out", o->out_dir,
+                      "output folder (runs/bench_explore); a rerun resumes it");
+  explore
+      ->add_option("--only", o->only,
+                   "only the runs whose name (<scene>_<architecture>_r<robots>) contains one of "
+                   "these, comma-separated (e.g. powerplant_,indoor_1_centralized)")
+      ->delimiter(',');
+  explore->add_flag("--report", o->report,
+                    "write the tables of the runs already done under --out; start none");
 }
 
 }  // namespace scancrew::cli

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "cli/commands.hpp"
 #include "executors/log.hpp"
 #include "sim/mesh_io.hpp"
 #include "sim/ply_writer.hpp"
@@ -49,6 +50,22 @@ int run_groundtruth(const GroundTruthOptions& o) {
               static_cast<unsigned long long>(o.seed), seconds);
   std::printf("wrote %s\n", o.out_path.c_str());
   return 0;
+}
+
+void add_groundtruth_command(CLI::App& app, CommandTable& table) {
+  auto [groundtruth, o] = table.add_with_options<GroundTruthOptions>(
+      app, "groundtruth", "sample points with normals on a scene's visible surfaces, as a PLY",
+      run_groundtruth);
+  groundtruth->add_option("scene", o->scene_path, "scene file (YAML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  groundtruth->add_option("--out", o->out_path, "output file (.ply)")->required();
+  groundtruth->add_option("--density", o->density_per_m2, "points per m2 (default 10000)");
+  groundtruth->add_option("--seed", o->seed, "random seed (default 1)");
+  groundtruth
+      ->add_option("--visibility-rays", o->visibility_rays,
+                   "ray directions per point of the mesh visibility test, 0: off (default 64)")
+      ->check(CLI::Range(0, 100000));
 }
 
 }  // namespace scancrew::cli

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "cli/commands.hpp"
 #include "cli/mission_compose.hpp"
 #include "components/dds_bridge/dds_bridge.hpp"
 #include "components/dds_bridge/dds_link.hpp"
@@ -161,6 +162,32 @@ int run_keys_add(const KeysOptions& o) {
               place.c_str(), o.dir.c_str(), place.c_str(), place.c_str(), place.c_str(),
               grant->publish.size(), grant->subscribe.size());
   return 0;
+}
+
+void add_keys_command(CLI::App& app, CommandTable& table) {
+  auto o = std::make_shared<KeysOptions>();
+  auto* keys = app.add_subcommand("keys", "a team's keys for DDS-Security (docs/security.md)");
+  keys->require_subcommand(1);
+  auto* init = keys->add_subcommand("init", "make a team's authority and governance");
+  init->add_option("dir", o->dir, "key folder (made if absent)")->required();
+  init->add_option("--team", o->team, "the team's name (default: team)");
+  table.add(init, [o] { return run_keys_init(*o); });
+  auto* add = keys->add_subcommand(
+      "add", "make a place's identity and permissions (from the launch file's bridges)");
+  add->add_option("dir", o->dir, "key folder (scancrew keys init)")->required();
+  add->add_option("launch", o->launch, "the team's launch file")->required();
+  auto* robot = add->add_option("--robot", o->robot, "a robot, by its id")
+                    ->check(CLI::Range(int64_t{1}, int64_t{4294967294}));
+  auto* station = add->add_flag("--station", o->station, "the ground station");
+  auto* sim = add->add_flag("--sim", o->sim, "the simulator");
+  robot->excludes(station)->excludes(sim);
+  station->excludes(sim);
+  add->add_option("--set", o->overrides,
+                  "name.key=value: a launch override, as the place runs with it (a "
+                  "bridge's topics)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  table.add(add, [o] { return run_keys_add(*o); });
 }
 
 }  // namespace scancrew::cli

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "cli/commands.hpp"
 #include "executors/log.hpp"
 #include "sim/png_writer.hpp"
 #include "sim/team_sim.hpp"
@@ -118,6 +119,24 @@ int run_render(const RenderOptions& o) {
               w, h, stereo.intrinsics.fx, stereo.baseline_m);
   for (const auto& p : written) std::printf("wrote %s\n", p.c_str());
   return 0;
+}
+
+void add_render_command(CLI::App& app, CommandTable& table) {
+  auto [render, o] = table.add_with_options<RenderOptions>(
+      app, "render", "render a scene: stereo pair, depth and a top view, as PNG", run_render);
+  render->add_option("scene", o->scene_path, "scene file (YAML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  render->add_option("--out", o->out_dir, "output folder")->required();
+  render->add_option("--pose", o->pose, "x,y,yaw_deg of the robot (default: a free corner)")
+      ->delimiter(',')
+      ->expected(3);
+  render->add_option("--kind", o->kind, "robot kind")
+      ->check(CLI::IsMember({"ground", "multirotor"}));
+  render->add_option("--z", o->z_m, "multirotor altitude, m");
+  render->add_option("--width", o->width, "image width")->check(CLI::Range(16u, 1920u));
+  render->add_option("--height", o->height, "image height (with the width, sets the FOV aspect)")
+      ->check(CLI::Range(16u, 1080u));
 }
 
 }  // namespace scancrew::cli

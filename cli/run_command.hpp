@@ -10,8 +10,11 @@
 // pictures and report.html.
 
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "executors/launch.hpp"
 
 namespace scancrew::cli {
 
@@ -32,5 +35,10 @@ struct RunOptions {
 // 0: ran (a mission: its run directory written); 2: the launch file was refused; 1: the
 // run directory could not be written.
 int run_launch(const RunOptions& options);
+
+// The launch file at `path` composed (a mission file with `robot_count` robots, 0: as it
+// says); nullptr after printing why not.
+std::unique_ptr<Launch> compose_or_report(const std::string& path, const LaunchOptions& options,
+                                          size_t robot_count = 0);
 
 }  // namespace scancrew::cli

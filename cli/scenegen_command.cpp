@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cli/commands.hpp"
 #include "executors/log.hpp"
 #include "scenegen/scenegen.hpp"
 
@@ -61,6 +62,15 @@ int run_scenegen(const ScenegenOptions& o) {
       fs.connected ? "connected" : "NOT connected", fs.reachable_cells, fs.free_cells,
       generated->draws, generated->repairs, path.c_str());
   return 0;
+}
+
+void add_scenegen_command(CLI::App& app, CommandTable& table) {
+  auto [scenegen, o] = table.add_with_options<ScenegenOptions>(
+      app, "scenegen", "write a procedural scene (indoor floor or outdoor site) from a seed",
+      run_scenegen);
+  scenegen->add_option("--family", o->family, "indoor | outdoor");
+  scenegen->add_option("--seed", o->seed, "the seed, an integer >= 0");
+  scenegen->add_option("--out", o->out_dir, "folder to write <family>_<seed>.yaml to");
 }
 
 }  // namespace scancrew::cli

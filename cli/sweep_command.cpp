@@ -11,6 +11,7 @@
 #include <map>
 
 #include "cli/child_process.hpp"
+#include "cli/commands.hpp"
 #include "cli/mission_compose.hpp"
 #include "cli/sweep_table.hpp"
 #include "executors/log.hpp"
@@ -342,6 +343,41 @@ int run_sweep(const SweepOptions& o) {
   if (stopped) std::printf(" (stopped)");
   std::printf("; tables %s and %s\n", (out / "sweep.md").c_str(), (out / "sweep.csv").c_str());
   return failed > 0 || stopped || !tables_written ? 1 : 0;
+}
+
+void add_sweep_command(CLI::App& app, CommandTable& table) {
+  auto [sweep, o] = table.add_with_options<SweepOptions>(
+      app, "sweep", "run a mission over architectures x robots x seeds; results tables (MD, CSV)",
+      run_sweep);
+  sweep
+      ->add_option("file", o->path,
+                   "sweep file (architectures: one launch file each) or a launch file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sweep
+      ->add_option("--robots", o->robots,
+                   "team sizes, e.g. 1,2,3,4 (default: every robot of each launch file)")
+      ->delimiter(',')
+      ->check(CLI::Range(size_t{1}, size_t{1000}));
+  sweep->add_option("--arch", o->archs, "architectures (default: every one of the sweep file)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"single", "centralized", "distributed"}));
+  sweep->add_option("--seeds", o->seeds, "runs per team, seeds 1..N")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  sweep->add_option("--out", o->out_dir,
+                    "output folder: sweep.md, sweep.csv, a run directory per run "
+                    "(default runs/sweep_<file stem>)");
+  sweep
+      ->add_option("--set", o->sets,
+                   "override a parameter in every run: name.key=value (after the seed's)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  sweep
+      ->add_option("--seed-keys", o->seed_keys,
+                   "parameters set to the seed (default: the sweep file's seed_keys, else "
+                   "sim.seed,low_level.planner_seed)")
+      ->delimiter(',');
 }
 
 }  // namespace scancrew::cli

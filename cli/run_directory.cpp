@@ -1,0 +1,299 @@
+#include "cli/run_directory.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "cli/mesh_scores.hpp"
+#include "components/low_level/low_level_planner.hpp"
+#include "components/team_simulator/team_simulator.hpp"
+#include "components/tsdf/tsdf_mapper.hpp"
+#include "executors/log.hpp"
+#include "executors/trace.hpp"
+#include "mission/run_files.hpp"
+#include "mission/run_report.hpp"
+#include "mission/time_breakdown.hpp"
+
+namespace scancrew::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using components::MissionMonitor;
+using Json = nlohmann::ordered_json;
+using Planners = std::map<uint32_t, const low_level::LowLevelPlanner*>;
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+// NaN and infinities have no JSON form: null.
+Json number_or_null(double v) {
+  return std::isfinite(v) ? Json(v) : Json(nullptr);
+}
+
+// x per goal reached; null without a goal reached.
+Json per_goal(double x, uint64_t goals) {
+  return goals > 0 ? Json(x / static_cast<double>(goals)) : Json(nullptr);
+}
+
+// Where the team's time went and how fast it covered the scene (docs/missions.md, "Where the
+// time goes"): the mean share of each activity over the robots, plan churn (tours per goal
+// reached), metres per goal, coverage per metre and per minute, the times to 50 / 90 / 95 %
+// coverage (the monitor's estimate), and what each place computed.
+void add_exploration_metrics(Json& m, const Launch& launch, const MissionMonitor& monitor,
+                             const std::map<uint32_t, const low_level::LowLevelPlanner*>& planners,
+                             double sim_s) {
+  const auto robots = monitor.robots();
+  Json share = Json::object();
+  for (size_t a = 0; a < mission::kActivityCount; ++a) {
+    double sum = 0;
+    for (const auto& r : robots) sum += r.time.total() > 0 ? r.time.seconds[a] / r.time.total() : 0;
+    share[std::string(mission::to_string(static_cast<mission::Activity>(a)))] =
+        robots.empty() ? 0.0 : sum / static_cast<double>(robots.size());
+  }
+  m["idle_share"] = share["idle_open"].get<double>() + share["idle_done"].get<double>();
+  m["time_share"] = std::move(share);
+  uint64_t tours = 0, goals = 0;
+  for (const auto& [id, p] : planners) {
+    tours += p->stats().tours;
+    goals += p->stats().goals_reached;
+  }
+  double path_m = 0;
+  for (const auto& r : robots) path_m += r.path_length_m;
+  m["goals_reached"] = goals;
+  m["tours_per_goal"] = per_goal(static_cast<double>(tours), goals);
+  m["m_per_goal"] = per_goal(path_m, goals);
+  const double coverage = m["coverage"].is_number() ? m["coverage"].get<double>() : NAN;
+  m["coverage_per_m"] = number_or_null(path_m > 0 ? coverage / path_m : NAN);
+  m["coverage_per_min"] = number_or_null(sim_s > 0 ? coverage / (sim_s / 60.0) : NAN);
+  const auto samples = monitor.coverage();
+  for (const bool reachable : {false, true}) {
+    Json times = Json::object();
+    for (const double share_of : {0.5, 0.9, 0.95}) {
+      const auto t = mission::time_to_coverage(samples, share_of, reachable);
+      times[std::to_string(std::lround(100 * share_of))] = t ? Json(*t) : Json(nullptr);
+    }
+    m[reachable ? "time_to_coverage_reachable_s" : "time_to_coverage_s"] = std::move(times);
+  }
+  m["compute_time"] = std::string(to_string(launch.settings().compute_time));
+  m["compute_scale"] = launch.settings().charge.scale;
+  m["place_cores"] = launch.settings().charge.cores;
+  Json places = Json::array();
+  for (const PlaceStats& p : launch.place_stats())
+    places.push_back({{"place", p.name},
+                      {"callbacks", p.callbacks},
+                      {"busy_s", p.charged_s},
+                      {"busy_share", number_or_null(sim_s > 0 ? p.charged_s / sim_s : NAN)},
+                      {"max_callback_ms", p.max_callback_ms}});
+  m["places"] = std::move(places);
+}
+
+bool copy_into(const std::string& from, const fs::path& to) {
+  std::error_code ec;
+  if (from.empty() || !fs::exists(from, ec)) return false;
+  if (fs::exists(to, ec) && fs::equivalent(from, to, ec)) return true;
+  fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
+  if (ec)
+    std::fprintf(stderr, "scancrew run: copying %s: %s\n", from.c_str(), ec.message().c_str());
+  return !ec;
+}
+
+// The team's contacts over the run, from the simulator (none in a process without one).
+struct Contacts {
+  uint64_t robot_robot = 0, robot_scene = 0;
+};
+
+// The mesh the run is judged by, copied to mesh.ply, with its place's map as map.bt (a
+// reconstruction-only mapper writes no OctoMap: its place's planning map's then).
+void copy_best_mesh(const std::vector<MeshScore>& scores, const MeshScore* best,
+                    const fs::path& out) {
+  if (best == nullptr) return;
+  copy_into(best->mesh_path, out / "mesh.ply");
+  const MeshScore* map_from = best;
+  for (const MeshScore& s : scores)
+    if (map_from->octomap_path.empty() && !s.octomap_path.empty() && s.robot_ns == best->robot_ns)
+      map_from = &s;
+  copy_into(map_from->octomap_path, out / "map.bt");
+}
+
+// The run's facts and the scores of its meshes: the top of metrics.json.
+Json run_metrics(const Launch& launch, const MissionMonitor& monitor, const RunFacts& run,
+                 const std::vector<MeshScore>& scores, const MeshScore* best) {
+  Json m;
+  m["launch"] = run.launch_path;
+  m["scene"] = monitor.config().scene;
+  std::string architecture = "single";
+  uint64_t bytes = 0;
+  for (const auto& c : launch.components())
+    if (const auto* mapper = dynamic_cast<const tsdf::TsdfMapper*>(c.get())) {
+      architecture = mapper->config().mode;
+      bytes += mapper->stats().patch_wire_bytes;
+    }
+  m["architecture"] = architecture;
+  m["started"] = run.started;
+  m["completed"] = run.stop_reason == "complete";
+  m["stop_reason"] = run.stop_reason;
+  const auto completion = monitor.completion_time_s();
+  m["completion_time_s"] = completion ? Json(*completion) : Json(nullptr);
+  m["sim_time_s"] = run.sim_s;
+  m["wall_time_s"] = run.wall_s;
+  m["real_time_factor"] = number_or_null(run.wall_s > 0 ? run.sim_s / run.wall_s : kNan);
+  const eval::ReconstructionError* e = best && best->error ? &*best->error : nullptr;
+  m["mesh_from"] = best ? Json(best->from) : Json(nullptr);
+  m["coverage"] = number_or_null(e ? e->coverage : kNan);
+  m["coverage_reachable"] = number_or_null(e ? best->coverage_reachable : kNan);
+  m["mean_error_m"] = number_or_null(e ? e->mean_error_m : kNan);
+  m["std_error_m"] = number_or_null(e ? e->std_error_m : kNan);
+  m["rmse_m"] = number_or_null(e ? e->rmse_m : kNan);
+  m["eval_density_per_m2"] = monitor.config().eval_density_per_m2;
+  m["eval_e_max_m"] = number_or_null(e ? best->e_max_m : kNan);
+  Json meshes = Json::array();
+  for (const MeshScore& s : scores) {
+    const eval::ReconstructionError* se = s.error ? &*s.error : nullptr;
+    meshes.push_back({{"from", s.from},
+                      {"mesh", s.mesh_path},
+                      {"voxel_m", s.voxel_m},
+                      {"e_max_m", number_or_null(se ? s.e_max_m : kNan)},
+                      {"coverage", number_or_null(se ? se->coverage : kNan)},
+                      {"coverage_reachable", number_or_null(se ? s.coverage_reachable : kNan)},
+                      {"rmse_m", number_or_null(se ? se->rmse_m : kNan)}});
+  }
+  m["meshes"] = std::move(meshes);
+  m["eval_visibility_rays"] = monitor.config().visibility_rays;
+  // distributed: the completed patches the robots sent (their wire size). Centralized: the
+  // depth images and poses to the station, which an in-process run does not serialise, so
+  // not measured here (null), rather than a 0 that would read as "nothing sent".
+  m["data_exchanged_bytes"] = architecture == "centralized" ? Json(nullptr) : Json(bytes);
+  return m;
+}
+
+// One robot's entry of metrics.json: path, replans, coverage (the score of its finest map's
+// mesh, else the monitor's estimate), goals, tours and where its time went.
+Json robot_metrics(const MissionMonitor::RobotProgress& r, const Planners& planners,
+                   const std::vector<MeshScore>& scores) {
+  Json j;
+  j["id"] = r.id;
+  j["namespace"] = r.ns;
+  j["kind"] = r.kind;
+  j["path_length_m"] = r.path_length_m;
+  const auto p = planners.find(r.id);
+  j["replans"] = p != planners.end() ? p->second->stats().replans : r.planning_requests;
+  double coverage = r.coverage >= 0 ? r.coverage : kNan;
+  for (const MeshScore& s : scores)
+    if (s.robot_ns == r.ns && s.error && represents_place(scores, s)) coverage = s.error->coverage;
+  j["coverage"] = number_or_null(coverage);
+  if (p != planners.end()) {
+    const auto& st = p->second->stats();
+    j["goals_reached"] = st.goals_reached;
+    j["tours"] = st.tours;
+    j["tours_per_goal"] = per_goal(static_cast<double>(st.tours), st.goals_reached);
+    j["m_per_goal"] = per_goal(r.path_length_m, st.goals_reached);
+  }
+  Json time = Json::object();
+  for (size_t a = 0; a < mission::kActivityCount; ++a)
+    time[std::string(mission::to_string(static_cast<mission::Activity>(a)))] = r.time.seconds[a];
+  j["time_s"] = std::move(time);
+  j["ises_left"] = r.ises_left;
+  j["state"] = r.have_state ? std::string(msg::to_string(r.mode)) : "starting";
+  return j;
+}
+
+// Per-component compute times into m, and trace.json; false if it could not be written.
+bool add_trace(Json& m, const Tracer& tracer, const fs::path& out) {
+  Json times = Json::object();
+  for (const ComponentTime& t : tracer.component_times())
+    times[t.component] = {{"callbacks", t.callbacks},
+                          {"total_ms", t.total_ms},
+                          {"p50_ms", t.p50_ms},
+                          {"p99_ms", t.p99_ms}};
+  m["compute_ms"] = std::move(times);
+  const auto written = tracer.write_chrome_trace((out / "trace.json").string());
+  if (!written)
+    std::fprintf(stderr, "scancrew run: %s\n", scancrew::log::printable(written.error()).c_str());
+  if (tracer.dropped_events() > 0)
+    std::fprintf(stderr,
+                 "scancrew run: trace.json holds the first %zu callbacks; %llu more were only "
+                 "counted (--trace-events)\n",
+                 static_cast<size_t>(tracer.event_count()),
+                 static_cast<unsigned long long>(tracer.dropped_events()));
+  return static_cast<bool>(written);
+}
+
+// The line `scancrew run` ends with: how the mission ended, its coverage and contacts.
+void print_summary(const RunFacts& run, const MeshScore* best, const Contacts& contacts,
+                   const fs::path& out) {
+  const char* how = run.stop_reason == "complete"      ? "complete"
+                    : run.stop_reason == "stalled"     ? "stalled"
+                    : run.stop_reason == "interrupted" ? "interrupted"
+                                                       : "out of time";
+  std::printf("mission %s after %.1f s simulated (%.1f s wall)", how, run.sim_s, run.wall_s);
+  const eval::ReconstructionError* e = best && best->error ? &*best->error : nullptr;
+  if (e) std::printf("; coverage %.2f %% (map of %s)", 100 * e->coverage, best->from.c_str());
+  if (e && std::isfinite(best->coverage_reachable))
+    std::printf(", %.2f %% of the reachable surface", 100 * best->coverage_reachable);
+  std::printf("; contacts robot-scene %llu robot-robot %llu\n",
+              static_cast<unsigned long long>(contacts.robot_scene),
+              static_cast<unsigned long long>(contacts.robot_robot));
+  std::printf("run directory %s: report %s\n", out.c_str(), (out / "report.html").c_str());
+}
+
+}  // namespace
+
+bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, const RunFacts& run,
+                         const fs::path& out) {
+  bool ok = true;
+  auto check = [&](const Result<void, std::string>& r) {
+    if (!r) {
+      std::fprintf(stderr, "scancrew run: %s\n", scancrew::log::printable(r.error()).c_str());
+      ok = false;
+    }
+  };
+  check(mission::write_paths_csv((out / "paths.csv").string(), monitor.paths()));
+  check(mission::write_coverage_csv((out / "coverage.csv").string(), monitor.coverage()));
+  const auto scores = score_meshes(launch, monitor, run.started_at);
+  const MeshScore* best = best_mesh(scores);
+  copy_best_mesh(scores, best, out);
+
+  Json m = run_metrics(launch, monitor, run, scores, best);
+  Planners planners;
+  Contacts contacts;
+  for (const auto& c : launch.components()) {
+    if (const auto* p = dynamic_cast<const low_level::LowLevelPlanner*>(c.get()))
+      planners[p->robot_id()] = p;
+    if (const auto* s = dynamic_cast<const components::TeamSimulator*>(c.get());
+        s && s->simulator()) {
+      contacts.robot_robot += s->simulator()->contacts().robot_robot;
+      contacts.robot_scene += s->simulator()->contacts().robot_scene;
+    }
+  }
+  double total_length = 0;
+  uint64_t replans = 0;
+  Json robots = Json::array();
+  for (const auto& r : monitor.robots()) {
+    robots.push_back(robot_metrics(r, planners, scores));
+    total_length += r.path_length_m;
+    replans += robots.back()["replans"].get<uint64_t>();
+  }
+  m["total_path_length_m"] = total_length;
+  add_exploration_metrics(m, launch, monitor, planners, run.sim_s);
+  m["collisions"] = contacts.robot_robot + contacts.robot_scene;
+  m["contacts"] = {{"robot_robot", contacts.robot_robot}, {"robot_scene", contacts.robot_scene}};
+  m["replans"] = replans;
+  m["robots"] = std::move(robots);
+  if (const Tracer* tracer = launch.tracer()) ok = add_trace(m, *tracer, out) && ok;
+
+  std::ofstream file(out / "metrics.json");
+  file << m.dump(2) << "\n";
+  if (!file) {
+    std::fprintf(stderr, "scancrew run: cannot write %s\n", (out / "metrics.json").c_str());
+    return false;
+  }
+  file.close();
+  check(mission::write_report(out.string()));
+  print_summary(run, best, contacts, out);
+  return ok;
+}
+
+}  // namespace scancrew::cli
