@@ -9,12 +9,11 @@
 #include <string>
 
 #include "cli/commands.hpp"
+#include "core/io/ply.hpp"
 #include "eval/missed_points.hpp"
-#include "eval/ply_mesh.hpp"
 #include "eval/reconstruction_error.hpp"
 #include "executors/log.hpp"
 #include "sim/mesh_io.hpp"
-#include "sim/ply_writer.hpp"
 #include "sim/surface_sampler.hpp"
 
 namespace scancrew::cli {
@@ -77,7 +76,7 @@ int run_eval(const EvalOptions& o) {
     return 2;
   }
   // the mesh first: a wrong path fails before seconds of sampling
-  const auto mesh = eval::read_ply_mesh(o.mesh_path);
+  const auto mesh = io::read_ply_mesh(o.mesh_path);
   if (!mesh) {
     std::fprintf(stderr, "scancrew eval: %s\n", scancrew::log::printable(mesh.error()).c_str());
     return 2;
@@ -119,7 +118,10 @@ int run_eval(const EvalOptions& o) {
         normals.push_back(truth->normals[i]);
       }
     const std::string about = "scancrew eval: ground-truth points not covered by " + o.mesh_path;
-    if (auto w = sim::write_ply(o.missed_path, points, normals, {about}); !w) {
+    if (auto w = io::write_ply(
+            o.missed_path,
+            {.positions = io::flat(points), .normals = io::flat(normals), .comments = {about}});
+        !w) {
       std::fprintf(stderr, "scancrew eval: %s\n", scancrew::log::printable(w.error()).c_str());
       return 2;
     }

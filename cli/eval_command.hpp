@@ -11,7 +11,7 @@
 namespace scancrew::cli {
 
 struct EvalOptions {
-  std::string mesh_path;          // PLY (eval/ply_mesh.hpp)
+  std::string mesh_path;          // PLY (core/io/ply.hpp)
   std::string scene_path;         // scene YAML
   double voxel_size_m = 0.2;      // r_v of the reconstruction; sets e_max
   double density_per_m2 = 10000;  // ground-truth points per m² (the thesis's density)

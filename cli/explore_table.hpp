@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "cli/sweep_table.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::cli {
 

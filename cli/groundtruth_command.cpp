@@ -4,9 +4,9 @@
 #include <cstdio>
 
 #include "cli/commands.hpp"
+#include "core/io/ply.hpp"
 #include "executors/log.hpp"
 #include "sim/mesh_io.hpp"
-#include "sim/ply_writer.hpp"
 #include "sim/surface_sampler.hpp"
 
 namespace scancrew::cli {
@@ -41,7 +41,10 @@ int run_groundtruth(const GroundTruthOptions& o) {
                 "scancrew groundtruth: scene %s, %g points/m2, seed %llu, visible area %.3f m2",
                 scene->name.c_str(), o.density_per_m2, static_cast<unsigned long long>(o.seed),
                 samples->area_m2);
-  if (auto w = sim::write_ply(o.out_path, samples->points, samples->normals, {about}); !w) {
+  if (auto w = io::write_ply(o.out_path, {.positions = io::flat(samples->points),
+                                          .normals = io::flat(samples->normals),
+                                          .comments = {about}});
+      !w) {
     std::fprintf(stderr, "scancrew groundtruth: %s\n", scancrew::log::printable(w.error()).c_str());
     return 2;
   }

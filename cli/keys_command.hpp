@@ -12,7 +12,7 @@
 #include <string>
 
 #include "components/dds_bridge/team_keys.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::cli {
 

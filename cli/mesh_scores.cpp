@@ -7,7 +7,7 @@
 #include <map>
 
 #include "components/tsdf/tsdf_mapper.hpp"
-#include "eval/ply_mesh.hpp"
+#include "core/io/ply.hpp"
 #include "eval/team_reachable.hpp"
 #include "executors/log.hpp"
 #include "sim/mesh_io.hpp"
@@ -122,7 +122,7 @@ std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& 
                  scancrew::log::printable(observable.error()).c_str());
   for (MeshScore& s : scores) {
     if (s.mesh_path.empty()) continue;
-    const auto mesh = eval::read_ply_mesh(s.mesh_path);
+    const auto mesh = io::read_ply_mesh(s.mesh_path);
     if (!mesh) {
       std::fprintf(stderr, "scancrew run: evaluation: %s\n",
                    scancrew::log::printable(mesh.error()).c_str());

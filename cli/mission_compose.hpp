@@ -16,7 +16,7 @@
 #include <cstddef>
 #include <string>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::cli {
 

@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "mission/time_breakdown.hpp"
 
 namespace scancrew::cli {

@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/geometry.hpp"
 #include "sim/robot_model.hpp"
 #include "sim/scene.hpp"

@@ -61,7 +61,7 @@ const char* to_string(Facing f) {
   return "?";
 }
 
-Result<MissProfile, std::string> profile_misses(const sim::TriangleMesh& mesh,
+Result<MissProfile, std::string> profile_misses(const io::TriangleMesh& mesh,
                                                 std::span<const std::array<float, 3>> points,
                                                 std::span<const std::array<float, 3>> normals,
                                                 double e_max_m) {

@@ -19,8 +19,8 @@
 #include <span>
 #include <string>
 
-#include "executors/result.hpp"
-#include "sim/mesh_io.hpp"
+#include "core/io/triangle_mesh.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::eval {
 
@@ -50,7 +50,7 @@ const char* to_string(Facing f);
 // finite, points and normals of different counts, a point or normal not finite or a zero
 // normal, a mesh vertex not finite or a triangle index out of range. An empty mesh makes
 // every point a hole.
-Result<MissProfile, std::string> profile_misses(const sim::TriangleMesh& mesh,
+Result<MissProfile, std::string> profile_misses(const io::TriangleMesh& mesh,
                                                 std::span<const std::array<float, 3>> points,
                                                 std::span<const std::array<float, 3>> normals,
                                                 double e_max_m);

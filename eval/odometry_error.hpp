@@ -19,7 +19,7 @@
 #include <string_view>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/geometry.hpp"
 
 namespace scancrew::eval {

@@ -36,8 +36,8 @@
 #include <string>
 #include <vector>
 
+#include "core/result.hpp"
 #include "eval/free_space.hpp"
-#include "executors/result.hpp"
 #include "sim/robot_model.hpp"
 #include "sim/scene_solids.hpp"
 #include "sim/surface_sampler.hpp"

@@ -52,7 +52,7 @@ std::string format_vec(double x, double y, double z) {
 
 }  // namespace
 
-Result<void, std::string> check_eval_inputs(const sim::TriangleMesh& mesh,
+Result<void, std::string> check_eval_inputs(const io::TriangleMesh& mesh,
                                             std::span<const std::array<float, 3>> points,
                                             std::span<const std::array<float, 3>> normals,
                                             double e_max_m) {
@@ -103,7 +103,7 @@ std::string_view to_string(EvalStatus status) {
 }
 
 Result<ReconstructionError, std::string> reconstruction_error(
-    const sim::TriangleMesh& mesh, std::span<const std::array<float, 3>> points,
+    const io::TriangleMesh& mesh, std::span<const std::array<float, 3>> points,
     std::span<const std::array<float, 3>> normals, const ReconstructionErrorConfig& config) {
   if (points.empty()) return make_unexpected(std::string("no ground-truth points"));
   if (auto ok = check_eval_inputs(mesh, points, normals, config.e_max_m); !ok)

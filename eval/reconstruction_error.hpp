@@ -24,8 +24,8 @@
 #include <string_view>
 #include <vector>
 
-#include "executors/result.hpp"
-#include "sim/mesh_io.hpp"
+#include "core/io/triangle_mesh.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::eval {
 
@@ -62,7 +62,7 @@ struct ReconstructionError {
 
 // The input checks of reconstruction_error() but the one for no points (profile_misses()
 // takes an empty set): e_max, counts, finite points and non-zero normals, the mesh.
-Result<void, std::string> check_eval_inputs(const sim::TriangleMesh& mesh,
+Result<void, std::string> check_eval_inputs(const io::TriangleMesh& mesh,
                                             std::span<const std::array<float, 3>> points,
                                             std::span<const std::array<float, 3>> normals,
                                             double e_max_m);
@@ -73,7 +73,7 @@ Result<void, std::string> check_eval_inputs(const sim::TriangleMesh& mesh,
 // a triangle index out of range. An empty mesh is not an error: it covers nothing
 // (status kEmptyMesh).
 Result<ReconstructionError, std::string> reconstruction_error(
-    const sim::TriangleMesh& mesh, std::span<const std::array<float, 3>> points,
+    const io::TriangleMesh& mesh, std::span<const std::array<float, 3>> points,
     std::span<const std::array<float, 3>> normals, const ReconstructionErrorConfig& config);
 
 }  // namespace scancrew::eval

@@ -7,7 +7,7 @@
 namespace scancrew::eval {
 
 Result<std::vector<uint8_t>, std::string> team_observable(
-    const sim::SceneSpec& scene, const std::vector<sim::TriangleMesh>& placed_meshes,
+    const sim::SceneSpec& scene, const std::vector<io::TriangleMesh>& placed_meshes,
     const std::vector<std::array<float, 3>>& points,
     const std::vector<std::array<float, 3>>& normals, const std::vector<TeamStart>& team) {
   std::vector<uint8_t> observable(points.size(), 0);

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/geometry.hpp"
 #include "sim/mesh_io.hpp"
 #include "sim/robot_model.hpp"
@@ -27,7 +27,7 @@ struct TeamStart {
 // One flag per point (1: observable). Errors: a start whose body does not fit where it stands
 // (the free space would hold nothing reachable), and reachable_truth's.
 Result<std::vector<uint8_t>, std::string> team_observable(
-    const sim::SceneSpec& scene, const std::vector<sim::TriangleMesh>& placed_meshes,
+    const sim::SceneSpec& scene, const std::vector<io::TriangleMesh>& placed_meshes,
     const std::vector<std::array<float, 3>>& points,
     const std::vector<std::array<float, 3>>& normals, const std::vector<TeamStart>& team);
 

@@ -86,9 +86,8 @@ void TriangleGrid::for_each_cell(size_t t, F&& f) const {
       }
 }
 
-Result<TriangleGrid, std::string> TriangleGrid::build(const sim::TriangleMesh& mesh,
-                                                      double radius_m, size_t max_cells,
-                                                      uint64_t max_cell_visits) {
+Result<TriangleGrid, std::string> TriangleGrid::build(const io::TriangleMesh& mesh, double radius_m,
+                                                      size_t max_cells, uint64_t max_cell_visits) {
   if (!(radius_m > 0) || !std::isfinite(radius_m))
     return make_unexpected("the search radius must be positive and finite, not " +
                            std::to_string(radius_m));

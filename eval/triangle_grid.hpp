@@ -21,8 +21,8 @@
 #include <utility>
 #include <vector>
 
-#include "executors/result.hpp"
-#include "sim/mesh_io.hpp"
+#include "core/io/triangle_mesh.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::eval {
 
@@ -50,7 +50,7 @@ class TriangleGrid {
   // positive and finite, when the triangles' boxes span more than max_cell_visits cells (so the
   // cost is bounded whatever the file holds), or when the grid would hold more than 2^32
   // entries.
-  static Result<TriangleGrid, std::string> build(const sim::TriangleMesh& mesh, double radius_m,
+  static Result<TriangleGrid, std::string> build(const io::TriangleMesh& mesh, double radius_m,
                                                  size_t max_cells = kDefaultMaxCells,
                                                  uint64_t max_cell_visits = kDefaultMaxCellVisits);
 

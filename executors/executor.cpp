@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "executors/check.hpp"
+#include "core/check.hpp"
 
 namespace scancrew {
 

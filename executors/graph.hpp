@@ -16,8 +16,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/result.hpp"
 #include "executors/clock.hpp"
-#include "executors/result.hpp"
 #include "executors/topic.hpp"
 
 namespace scancrew {

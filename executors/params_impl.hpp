@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/result.hpp"
 #include "executors/params.hpp"
-#include "executors/result.hpp"
 
 namespace scancrew {
 

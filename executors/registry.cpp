@@ -1,6 +1,6 @@
 #include "executors/registry.hpp"
 
-#include "executors/check.hpp"
+#include "core/check.hpp"
 
 namespace scancrew {
 

@@ -17,7 +17,7 @@
 #include <optional>
 #include <vector>
 
-#include "executors/check.hpp"
+#include "core/check.hpp"
 
 namespace scancrew {
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "executors/check.hpp"
+#include "core/check.hpp"
 #include "executors/compute_clock.hpp"
 
 namespace scancrew {

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "executors/check.hpp"
+#include "core/check.hpp"
 #include "executors/subscriber_queue.hpp"
 
 namespace scancrew {

@@ -24,8 +24,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/result.hpp"
 #include "executors/latency_histogram.hpp"
-#include "executors/result.hpp"
 #include "executors/sample.hpp"
 #include "executors/subscriber_queue.hpp"
 #include "interfaces/header.hpp"

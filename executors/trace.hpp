@@ -30,9 +30,9 @@
 #include <string>
 #include <vector>
 
+#include "core/result.hpp"
 #include "executors/executable.hpp"
 #include "executors/latency_histogram.hpp"
-#include "executors/result.hpp"
 
 namespace scancrew {
 

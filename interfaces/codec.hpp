@@ -17,7 +17,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/message_fields.hpp"
 
 namespace scancrew::msg {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::mission::canvas {
 

@@ -49,7 +49,7 @@ struct Bounds {
 
 // The x-y bounds of the triangles' vertices (vertices no triangle uses are left out) and of
 // the path samples.
-Bounds data_bounds(const sim::TriangleMesh& mesh, const std::vector<PathSample>& paths) {
+Bounds data_bounds(const io::TriangleMesh& mesh, const std::vector<PathSample>& paths) {
   Bounds b;
   for (const auto& t : mesh.triangles)
     for (const uint32_t i : t)
@@ -58,7 +58,7 @@ Bounds data_bounds(const sim::TriangleMesh& mesh, const std::vector<PathSample>&
   return b;
 }
 
-std::string check_inputs(const sim::TriangleMesh& mesh, const std::vector<PathSample>& paths,
+std::string check_inputs(const io::TriangleMesh& mesh, const std::vector<PathSample>& paths,
                          const PlotOptions& options) {
   if (options.long_side_px < 200 || options.long_side_px > 20000)
     return "long_side_px " + std::to_string(options.long_side_px) + " not in [200, 20000]";
@@ -96,7 +96,7 @@ std::map<uint32_t, std::vector<PathSample>> by_robot(const std::vector<PathSampl
   return robots;
 }
 
-void draw_mesh(cv::Mat& img, const sim::TriangleMesh& mesh, const TopViewGeometry& g, double min_z,
+void draw_mesh(cv::Mat& img, const io::TriangleMesh& mesh, const TopViewGeometry& g, double min_z,
                double max_z) {
   // lowest triangles first, so that what is higher covers what lies below it
   std::vector<double> mean_z(mesh.triangles.size());
@@ -277,7 +277,7 @@ std::array<uint8_t, 3> robot_colour_rgb(uint32_t robot_id) {
   return kPalette[(static_cast<uint64_t>(robot_id) + kPalette.size() - 1) % kPalette.size()];
 }
 
-TopViewGeometry top_view_geometry(const sim::TriangleMesh& mesh,
+TopViewGeometry top_view_geometry(const io::TriangleMesh& mesh,
                                   const std::vector<PathSample>& paths,
                                   const PlotOptions& options) {
   const int long_side = options.long_side_px;
@@ -314,7 +314,7 @@ TopViewGeometry top_view_geometry(const sim::TriangleMesh& mesh,
   return g;
 }
 
-Result<void, std::string> write_top_view_png(const sim::TriangleMesh& mesh,
+Result<void, std::string> write_top_view_png(const io::TriangleMesh& mesh,
                                              const std::vector<PathSample>& paths,
                                              const std::string& out_png,
                                              const PlotOptions& options) {

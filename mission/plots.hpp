@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/io/triangle_mesh.hpp"
+#include "core/result.hpp"
 #include "mission/run_files.hpp"
-#include "sim/mesh_io.hpp"
 
 namespace scancrew::mission {
 
@@ -42,7 +42,7 @@ struct TopViewGeometry {
     return {col0_px + (x_m - x0_m) * px_per_m, row0_px - (y_m - y0_m) * px_per_m};
   }
 };
-TopViewGeometry top_view_geometry(const sim::TriangleMesh& mesh,
+TopViewGeometry top_view_geometry(const io::TriangleMesh& mesh,
                                   const std::vector<PathSample>& paths,
                                   const PlotOptions& options = {});
 
@@ -51,7 +51,7 @@ TopViewGeometry top_view_geometry(const sim::TriangleMesh& mesh,
 // counter-clockwise seen from outside); each robot's path on top.
 // Errors: options out of range (long side below 200 px or above 20000 px), a triangle
 // index out of range, a non-finite coordinate, an output path that cannot be written.
-Result<void, std::string> write_top_view_png(const sim::TriangleMesh& mesh,
+Result<void, std::string> write_top_view_png(const io::TriangleMesh& mesh,
                                              const std::vector<PathSample>& paths,
                                              const std::string& out_png,
                                              const PlotOptions& options = {});

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <vector>
 
-#include "eval/ply_mesh.hpp"
+#include "core/io/ply.hpp"
 #include "executors/params_impl.hpp"
 #include "mission/plots.hpp"
 #include "mission/run_files.hpp"
@@ -320,7 +320,7 @@ void file_table(std::ostream& out, const fs::path& dir) {
 // What the pictures show: the optional inputs, each read when present; a file that cannot be
 // read adds a note and is left out.
 struct PlotInputs {
-  sim::TriangleMesh mesh;
+  io::TriangleMesh mesh;
   std::vector<PathSample> paths;
   std::vector<CoverageSample> coverage;
   std::vector<std::string> notes;
@@ -330,7 +330,7 @@ PlotInputs read_plot_inputs(const fs::path& dir) {
   PlotInputs in;
   std::error_code ec;
   if (fs::exists(dir / "mesh.ply", ec)) {
-    if (auto mesh = eval::read_ply_mesh((dir / "mesh.ply").string()))
+    if (auto mesh = io::read_ply_mesh((dir / "mesh.ply").string()))
       in.mesh = std::move(mesh).value();
     else
       in.notes.push_back(mesh.error());

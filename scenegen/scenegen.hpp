@@ -16,7 +16,7 @@
 #include <string_view>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "scenegen/footprint.hpp"
 #include "sim/robot_model.hpp"
 #include "sim/scene.hpp"

@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::sim {
 

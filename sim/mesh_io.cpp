@@ -28,28 +28,6 @@ double norm(const msg::Vec3& a) {
 
 }  // namespace
 
-msg::Vec3 TriangleMesh::min() const {
-  if (vertices.empty()) return {};
-  msg::Vec3 m = vertices.front();
-  for (const auto& v : vertices) m = {std::min(m.x, v.x), std::min(m.y, v.y), std::min(m.z, v.z)};
-  return m;
-}
-
-msg::Vec3 TriangleMesh::max() const {
-  if (vertices.empty()) return {};
-  msg::Vec3 m = vertices.front();
-  for (const auto& v : vertices) m = {std::max(m.x, v.x), std::max(m.y, v.y), std::max(m.z, v.z)};
-  return m;
-}
-
-double TriangleMesh::area() const {
-  double a = 0;
-  for (const auto& t : triangles)
-    a +=
-        0.5 * norm(cross(sub(vertices[t[1]], vertices[t[0]]), sub(vertices[t[2]], vertices[t[0]])));
-  return a;
-}
-
 bool mesh_format_supported(const std::string& extension) {
   return !extension.empty() && Assimp::Importer().IsExtensionSupported(extension);
 }

@@ -10,20 +10,14 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/io/triangle_mesh.hpp"
+#include "core/result.hpp"
 #include "interfaces/geometry.hpp"
 #include "sim/scene.hpp"
 
 namespace scancrew::sim {
 
-struct TriangleMesh {
-  std::vector<msg::Vec3> vertices;
-  std::vector<std::array<uint32_t, 3>> triangles;  // indices into vertices
-
-  msg::Vec3 min() const;  // bounding box; (0,0,0) when empty
-  msg::Vec3 max() const;
-  double area() const;
-};
+using io::TriangleMesh;
 
 // Whether load_mesh reads files with this extension (".dae", ".obj", ...).
 bool mesh_format_supported(const std::string& extension);

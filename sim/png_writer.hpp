@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::sim {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/geometry.hpp"
 
 namespace scancrew::sim {

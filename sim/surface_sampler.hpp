@@ -33,7 +33,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "sim/mesh_io.hpp"
 #include "sim/scene.hpp"
 

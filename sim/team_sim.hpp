@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/nav_msgs.hpp"
 #include "interfaces/sensor_msgs.hpp"
 #include "sim/mjcf_builder.hpp"

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cstring>
 
-#include "executors/check.hpp"
+#include "core/check.hpp"
 #include "executors/clock.hpp"
 
 namespace scancrew::bench {

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::bench {
 

@@ -20,7 +20,7 @@
 #include <functional>
 #include <string>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/sensor_msgs.hpp"
 #include "sim/scene.hpp"
 

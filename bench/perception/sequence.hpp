@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::bench {
 

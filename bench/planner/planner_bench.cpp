@@ -121,7 +121,7 @@ Result<low_level::ObstacleGeometry, std::string> ground_truth(const sim::SceneSp
   if (!s.meshes.empty()) {
     auto meshes = sim::load_scene_meshes(s);
     if (!meshes) return make_unexpected(meshes.error());
-    for (const sim::TriangleMesh& m : *meshes) {
+    for (const io::TriangleMesh& m : *meshes) {
       std::vector<Eigen::Vector3d> vertices;
       vertices.reserve(m.vertices.size());
       for (const msg::Vec3& p : m.vertices) vertices.push_back(v(p));

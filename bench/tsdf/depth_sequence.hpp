@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "components/tsdf/integrator.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/geometry.hpp"
 #include "sim/robot_model.hpp"
 #include "sim/scene.hpp"

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "sim/mesh_io.hpp"
 
 namespace scancrew::bench {
@@ -38,7 +38,7 @@ struct PeerRun {
   std::vector<double> integrate_ms;  // per frame: Integrate() only
   std::vector<double> prepare_ms;    // per frame: the RGBDImage made from the depth
   double mesh_ms = 0;                // ExtractTriangleMesh()
-  sim::TriangleMesh mesh;
+  io::TriangleMesh mesh;
   size_t volume_units = 0;
   size_t voxels_per_unit = 0;
   size_t memory_bytes = 0;  // volume units × resolution³ × sizeof(TSDFVoxel)

@@ -30,7 +30,7 @@ namespace {
 struct SystemRun {
   std::vector<double> integrate_ms;
   double mesh_ms = 0;
-  sim::TriangleMesh mesh;
+  io::TriangleMesh mesh;
   size_t blocks = 0;  // allocated blocks (scancrew: 8³ voxels; Open3D: volume units of 16³)
   size_t voxels_per_block = 0;
   size_t memory_bytes = 0;

@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::dds_bridge {
 

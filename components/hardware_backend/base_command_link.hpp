@@ -31,7 +31,7 @@
 #include <string>
 #include <string_view>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::hardware {
 

@@ -11,7 +11,7 @@
 #include <span>
 #include <string>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::hardware {
 

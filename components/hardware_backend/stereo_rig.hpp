@@ -24,7 +24,7 @@
 #include <string_view>
 
 #include "components/hardware_backend/stereo_calibration.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/sensor_msgs.hpp"
 
 namespace scancrew::hardware {

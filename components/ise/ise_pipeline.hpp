@@ -34,7 +34,7 @@
 #include "components/ise/ise.hpp"
 #include "components/ise/ise_config.hpp"
 #include "components/ise/viewpoints.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::ise {
 

@@ -1,7 +1,7 @@
 #pragma once
 
-// A picture of an IseResult for MeshLab / CloudCompare / Open3D: an ASCII PLY point cloud
-// with per-point colour and view direction (as normals):
+// A picture of an IseResult for MeshLab / CloudCompare / Open3D: a PLY point cloud
+// (core/io/ply.hpp) with per-point colour and view direction (as normals):
 //   inspectable ISEs   green, normal = view direction
 //   ISEs in C_rem      red
 //   viewpoints         blue, normal = the camera's look direction; cluster centroids are
@@ -11,7 +11,7 @@
 #include <string>
 
 #include "components/ise/ise_pipeline.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::ise {
 

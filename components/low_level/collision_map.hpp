@@ -27,7 +27,7 @@
 
 #include "components/low_level/robot_body.hpp"
 #include "components/tsdf/tsdf_map.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::low_level {
 

@@ -43,7 +43,7 @@
 
 #include "components/low_level/planner_config.hpp"
 #include "components/tsdf/tsdf_map.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/nav_msgs.hpp"
 
 namespace scancrew::low_level {

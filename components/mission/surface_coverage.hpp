@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "components/tsdf/tsdf_map.hpp"
+#include "core/result.hpp"
 #include "eval/team_reachable.hpp"
-#include "executors/result.hpp"
 
 namespace scancrew::mission {
 

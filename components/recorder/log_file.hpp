@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::recorder {
 

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/nav_msgs.hpp"
 
 namespace scancrew::tracker {

@@ -29,7 +29,7 @@
 #include <vector>
 
 #include "components/tsdf/tsdf_map.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::tsdf {
 

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "components/tsdf/tsdf_map.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::tsdf {
 

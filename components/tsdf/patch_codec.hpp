@@ -45,7 +45,7 @@
 #include <vector>
 
 #include "components/tsdf/tsdf_map.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 #include "interfaces/map_msgs.hpp"
 
 namespace scancrew::tsdf {

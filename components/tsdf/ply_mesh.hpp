@@ -9,7 +9,7 @@
 #include <string>
 
 #include "components/tsdf/mesher.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::tsdf {
 

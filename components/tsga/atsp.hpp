@@ -29,7 +29,7 @@
 #include <string_view>
 #include <vector>
 
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::tsga {
 

@@ -37,7 +37,7 @@
 #include <vector>
 
 #include "components/tsga/atsp.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::tsga {
 

@@ -15,7 +15,7 @@
 #include <string>
 
 #include "components/tsga/atsp.hpp"
-#include "executors/result.hpp"
+#include "core/result.hpp"
 
 namespace scancrew::tsga {
 

@@ -17,8 +17,8 @@ using Vec3f = std::array<float, 3>;
 constexpr double kEmax = 0.25;
 
 // two triangles over [0, 10]² at z = 0
-sim::TriangleMesh square() {
-  sim::TriangleMesh m;
+io::TriangleMesh square() {
+  io::TriangleMesh m;
   m.vertices = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}};
   m.triangles = {{0, 1, 2}, {0, 2, 3}};
   return m;
@@ -62,7 +62,7 @@ TEST(ProfileMisses, PointsBesideTheMeshAreMeasuredToItsEdge) {
 TEST(ProfileMisses, AnEmptyMeshMakesHolesAndNoPointsAnEmptyProfile) {
   const std::vector<Vec3f> points{{5, 5, 0}};
   const std::vector<Vec3f> normals{{0, 0, -1}};
-  const auto holes = profile_misses(sim::TriangleMesh{}, points, normals, kEmax);
+  const auto holes = profile_misses(io::TriangleMesh{}, points, normals, kEmax);
   ASSERT_TRUE(holes.has_value()) << holes.error();
   EXPECT_EQ(holes->count(Facing::kDown, MissBand::kHole), 1U);
 
@@ -91,7 +91,7 @@ TEST(ProfileMisses, BadInputIsRefusedWithTheCulpritNamed) {
   r = profile_misses(square(), not_finite, up, kEmax);
   ASSERT_FALSE(r.has_value());
   EXPECT_NE(r.error().find("point 0"), std::string::npos) << r.error();
-  sim::TriangleMesh broken = square();
+  io::TriangleMesh broken = square();
   broken.triangles.push_back({0, 1, 7});
   r = profile_misses(broken, one, up, kEmax);
   ASSERT_FALSE(r.has_value());

@@ -212,8 +212,8 @@ name: sheet
 bounds_min_m: [-5, -5, 0]
 bounds_max_m: [5, 5, 3]
 )");
-  const sim::TriangleMesh sheet{.vertices = {{2, -2, 0}, {2, 2, 0}, {2, 0, 2}},
-                                .triangles = {{0, 1, 2}}};
+  const io::TriangleMesh sheet{.vertices = {{2, -2, 0}, {2, 2, 0}, {2, 0, 2}},
+                               .triangles = {{0, 1, 2}}};
   const sim::SceneSolids solids(scene, {sheet});
   auto fs = FreeSpace::build(solids, scene, default_body(sim::RobotKind::kGround), {{-2, 0, 0}});
   ASSERT_TRUE(fs) << fs.error();

@@ -23,9 +23,9 @@ struct Samples {
 constexpr double kEmax = 0.1 * 0.86602540378443864676;  // r_v·√3/2 for r_v = 0.1 m
 
 // n × n quads (two triangles each) over [0, size_m] × [0, width_m] at height z_m.
-sim::TriangleMesh plane(double size_m, int n, double z_m, double width_m = -1) {
+io::TriangleMesh plane(double size_m, int n, double z_m, double width_m = -1) {
   if (width_m < 0) width_m = size_m;
-  sim::TriangleMesh m;
+  io::TriangleMesh m;
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) m.vertices.push_back({width_m * i / n, size_m * j / n, z_m});
   const auto at = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
@@ -50,8 +50,8 @@ Samples plane_points(double size_m, int k, float nz = 1) {
 }
 
 // The box [-h, h]³ as 12 triangles wound outwards.
-sim::TriangleMesh box(double h) {
-  sim::TriangleMesh m;
+io::TriangleMesh box(double h) {
+  io::TriangleMesh m;
   for (int i = 0; i < 8; ++i)
     m.vertices.push_back({(i & 1) != 0 ? h : -h, (i & 2) != 0 ? h : -h, (i & 4) != 0 ? h : -h});
   m.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
@@ -78,7 +78,7 @@ Samples box_points(double h, int n, uint64_t seed) {
   return s;
 }
 
-Result<ReconstructionError, std::string> evaluate(const sim::TriangleMesh& mesh, const Samples& s,
+Result<ReconstructionError, std::string> evaluate(const io::TriangleMesh& mesh, const Samples& s,
                                                   double e_max = kEmax, bool per_point = false) {
   return reconstruction_error(mesh, s.points, s.normals,
                               {.e_max_m = e_max, .per_point_error = per_point});
@@ -160,8 +160,8 @@ TEST(ReconstructionError, HalfASurfaceCoversHalfItsPointsPlusABandOfEmax) {
 }
 
 TEST(ReconstructionError, TheNearestOfTwoSurfacesCounts) {
-  sim::TriangleMesh two = plane(4, 4, 0.03);
-  const sim::TriangleMesh lower = plane(4, 4, -0.05);
+  io::TriangleMesh two = plane(4, 4, 0.03);
+  const io::TriangleMesh lower = plane(4, 4, -0.05);
   const auto base = static_cast<uint32_t>(two.vertices.size());
   two.vertices.insert(two.vertices.end(), lower.vertices.begin(), lower.vertices.end());
   for (const auto& t : lower.triangles)
@@ -172,7 +172,7 @@ TEST(ReconstructionError, TheNearestOfTwoSurfacesCounts) {
 }
 
 TEST(ReconstructionError, PointsAreCoveredUpToEmaxInAnyDirection) {
-  sim::TriangleMesh t;
+  io::TriangleMesh t;
   t.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   t.triangles = {{0, 1, 2}};
   Samples s;
@@ -190,7 +190,7 @@ TEST(ReconstructionError, PointsAreCoveredUpToEmaxInAnyDirection) {
 
 TEST(ReconstructionError, GivesTheSameFiguresOnOneThreadAsOnMany) {
   const Samples s = box_points(1.0, 20000, 3);
-  const sim::TriangleMesh m = box(1.02);
+  const io::TriangleMesh m = box(1.02);
   const auto many = evaluate(m, s, kEmax, true);
   tbb::task_arena one(1);
   Result<ReconstructionError, std::string> single = make_unexpected(std::string("not run"));
@@ -208,7 +208,7 @@ TEST(ReconstructionError, GivesTheSameFiguresOnOneThreadAsOnMany) {
 }
 
 TEST(ReconstructionError, AnEmptyMeshCoversNothing) {
-  const auto r = evaluate(sim::TriangleMesh{}, plane_points(4, 10));
+  const auto r = evaluate(io::TriangleMesh{}, plane_points(4, 10));
   ASSERT_TRUE(r) << r.error();
   EXPECT_EQ(r->status, EvalStatus::kEmptyMesh);
   EXPECT_EQ(to_string(r->status), "empty mesh");
@@ -224,7 +224,7 @@ void expect_refused(const Result<ReconstructionError, std::string>& r, const std
 
 TEST(ReconstructionError, RefusesBadInputsNamingTheCulprit) {
   const Samples s = plane_points(4, 10);
-  sim::TriangleMesh m = plane(4, 2, 0);
+  io::TriangleMesh m = plane(4, 2, 0);
   for (const double e : {0.0, -0.1, std::nan("")})
     expect_refused(evaluate(m, s, e), "e_max must be positive and finite");
 

@@ -37,7 +37,7 @@ TEST(ClosestPointOnTriangle, ProjectsOntoTheFeatureOfTheRegionHoldingThePoint) {
 
 // A random soup of small triangles in a 2 m cube, and points around it.
 struct Soup {
-  sim::TriangleMesh mesh;
+  io::TriangleMesh mesh;
   std::vector<Point3> points;
 };
 
@@ -61,7 +61,7 @@ Soup soup(uint64_t seed) {
   return s;
 }
 
-std::optional<NearestPoint> brute_force(const sim::TriangleMesh& m, const Point3& p, double r) {
+std::optional<NearestPoint> brute_force(const io::TriangleMesh& m, const Point3& p, double r) {
   std::optional<NearestPoint> best;
   for (uint32_t t = 0; t < m.triangles.size(); ++t) {
     const auto v = [&](int i) {
@@ -108,7 +108,7 @@ TEST(TriangleGrid, UsesCellsTwiceTheRadiusUnlessThatMakesTooMany) {
 // 20,000 triangles that each spanned the whole scene (a 260 KB PLY) took 150 s in scancrew eval:
 // the build's work is bounded before it starts.
 TEST(TriangleGrid, TrianglesFarLargerThanTheRadiusAreRefusedBeforeTheWork) {
-  sim::TriangleMesh mesh;
+  io::TriangleMesh mesh;
   mesh.vertices = {{-50, -50, 0},  {50, -50, 0}, {0, 50, 0},
                    {-50, -50, 20}, {50, 50, 20}, {0, 50, 1}};
   for (int i = 0; i < 20000; ++i) mesh.triangles.push_back({0u, 1u, 2u});

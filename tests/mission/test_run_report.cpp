@@ -57,15 +57,15 @@ std::string read_text(const std::string& path) {
 }
 
 // A 10 m x 6 m floor at z = 0 with a 2 m x 2 m block top at z = 2 over (4..6, 2..4).
-sim::TriangleMesh floor_and_block() {
-  sim::TriangleMesh mesh;
+io::TriangleMesh floor_and_block() {
+  io::TriangleMesh mesh;
   mesh.vertices = {{0, 0, 0}, {10, 0, 0}, {10, 6, 0}, {0, 6, 0},
                    {4, 2, 2}, {6, 2, 2},  {6, 4, 2},  {4, 4, 2}};
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
   return mesh;
 }
 
-std::string ascii_ply(const sim::TriangleMesh& mesh) {
+std::string ascii_ply(const io::TriangleMesh& mesh) {
   std::ostringstream s;
   s << "ply\nformat ascii 1.0\nelement vertex " << mesh.vertices.size()
     << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
@@ -301,7 +301,7 @@ TEST(Plots, EmptyInputsGiveANoDataPicture) {
 
 TEST(Plots, SingleSamplesAndFlatMeshesAreDrawn) {
   TempDir dir;
-  sim::TriangleMesh flat;
+  io::TriangleMesh flat;
   flat.vertices = {{0, 0, 1}, {1, 0, 1}, {0, 0, 1}};  // one degenerate triangle, one height
   flat.triangles = {{0, 1, 2}};
   const std::vector<PathSample> one = {{.t_s = 3, .robot_id = 7, .x_m = 0.5, .y_m = 0}};
@@ -335,7 +335,7 @@ TEST(Plots, ExtremeValuesAreDrawnOrRefusedNotHung) {
   ASSERT_FALSE(top);
   EXPECT_NE(top.error().find("far.png': path sample 0 (robot 1) lies beyond"), std::string::npos)
       << top.error();
-  sim::TriangleMesh wide = floor_and_block();
+  io::TriangleMesh wide = floor_and_block();
   wide.vertices.push_back({1e308, -1e308, 0});
   wide.triangles.push_back({0, 1, static_cast<uint32_t>(wide.vertices.size() - 1)});
   const auto mesh = write_top_view_png(wide, {}, dir.file("wide.png"));
@@ -351,7 +351,7 @@ TEST(Plots, BadInputsAndOutputsAreErrorsNamingThem) {
   const auto not_png = write_coverage_png(two_coverages(), dir.file("cov.jpg"));
   ASSERT_FALSE(not_png);
   EXPECT_NE(not_png.error().find("cov.jpg"), std::string::npos);
-  sim::TriangleMesh broken = floor_and_block();
+  io::TriangleMesh broken = floor_and_block();
   broken.triangles.push_back({0, 1, 99});
   const auto bad_index = write_top_view_png(broken, {}, dir.file("t.png"));
   ASSERT_FALSE(bad_index);

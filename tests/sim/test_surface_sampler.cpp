@@ -11,7 +11,6 @@
 #include <numbers>
 #include <sstream>
 
-#include "sim/ply_writer.hpp"
 #include "sim/surface_sampler.hpp"
 #include "tests/sim/test_meshes.hpp"
 
@@ -249,32 +248,6 @@ TEST(SurfaceSampler, RefusesANegativeVisibilityRayCount) {
   const auto r = sample_surfaces(room(), {}, {.density_per_m2 = 10, .visibility_rays = -1});
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().find("visibility_rays"), std::string::npos) << r.error();
-}
-
-TEST(SurfaceSampler, PlyHoldsPointsAndNormals) {
-  const std::vector<std::array<float, 3>> points = {{1.5f, -2, 3}, {0, 0.25f, 1}},
-                                          normals = {{0, 0, 1}, {1, 0, 0}};
-  const auto path =
-      (std::filesystem::temp_directory_path() / "scancrew_test_surface_sampler.ply").string();
-  ASSERT_TRUE(write_ply(path, points, normals, {"made by a test"}));
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string bytes = buffer.str();
-  const std::string header =
-      "ply\nformat binary_little_endian 1.0\ncomment made by a test\nelement vertex 2\n"
-      "property float x\nproperty float y\nproperty float z\n"
-      "property float nx\nproperty float ny\nproperty float nz\nend_header\n";
-  ASSERT_EQ(bytes.size(), header.size() + 48);  // 2 vertices of 6 floats
-  EXPECT_EQ(bytes.substr(0, header.size()), header);
-  float body[12];
-  std::memcpy(body, bytes.data() + header.size(), sizeof body);  // the test runs little-endian
-  EXPECT_EQ(body[0], 1.5f);
-  EXPECT_EQ(body[1], -2.0f);
-  EXPECT_EQ(body[7], 0.25f);
-  EXPECT_EQ(body[9], 1.0f);
-  std::filesystem::remove(path);
-  EXPECT_FALSE(write_ply(path, points, {{0, 0, 1}}));  // one normal for two points
 }
 
 }  // namespace

@@ -9,7 +9,7 @@
 #include <utility>
 #include <variant>
 
-#include "executors/check.hpp"
+#include "core/check.hpp"
 
 namespace scancrew {
 

@@ -1,5 +1,3 @@
-#include "eval/ply_mesh.hpp"
-
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -12,7 +10,9 @@
 #include <sstream>
 #include <vector>
 
-namespace scancrew::eval {
+#include "core/io/ply.hpp"
+
+namespace scancrew::io {
 
 namespace {
 
@@ -221,7 +221,7 @@ int index_of(const Element& e, const std::string& name) {
   return -1;
 }
 
-Result<sim::TriangleMesh, std::string> parse(const std::string& data) {
+Result<TriangleMesh, std::string> parse(const std::string& data) {
   auto header = parse_header(data);
   if (!header) return make_unexpected(header.error());
   const auto vertex = std::find_if(header->elements.begin(), header->elements.end(),
@@ -244,7 +244,7 @@ Result<sim::TriangleMesh, std::string> parse(const std::string& data) {
   if (indices < 0)
     return make_unexpected(std::string("the face element has no list 'vertex_indices'"));
 
-  sim::TriangleMesh mesh;
+  TriangleMesh mesh;
   // counts come from the file: reserve no more than its bytes could hold
   const size_t body = data.size() - header->body_offset;
   mesh.vertices.reserve(std::min(vertex->count, body / 3 + 1));
@@ -310,7 +310,7 @@ Result<sim::TriangleMesh, std::string> parse(const std::string& data) {
 
 }  // namespace
 
-Result<sim::TriangleMesh, std::string> read_ply_mesh(const std::string& path) {
+Result<TriangleMesh, std::string> read_ply_mesh(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     return make_unexpected("mesh file '" + path + "' does not exist or is not a file");
@@ -323,4 +323,4 @@ Result<sim::TriangleMesh, std::string> read_ply_mesh(const std::string& path) {
   return mesh;
 }
 
-}  // namespace scancrew::eval
+}  // namespace scancrew::io
