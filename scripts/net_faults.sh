@@ -65,6 +65,9 @@ fi
 bin=$(realpath "$bin")
 mkdir -p "$out"
 out=$(realpath "$out")
+# a rerun into the same folder: the logs of the last run go first, or the loop below would read
+# the last run's sim time before the new simulator has truncated its log
+rm -f "$out/sim.log" "$out"/robot_*.log "$out/faults.txt" "$out/net_delay.log"
 
 # namespaces: sc<pid>-hub (the bridge), sc<pid>-sim, sc<pid>-r<k>; addresses .1 sim, .1+k robots
 tag="sc$$"
