@@ -72,7 +72,7 @@ Result<BenchScene, std::string> procedural_scene(scenegen::Family family, uint64
   return BenchScene{.name = name,
                     .family = scenegen::to_string(family),
                     .path = path.string(),
-                    .kind = sim::to_string(scenegen::robot_kind(family)),
+                    .kind = robot::to_string(scenegen::robot_kind(family)),
                     .budget_s = budget_s};
 }
 

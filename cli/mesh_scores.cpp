@@ -6,7 +6,7 @@
 #include <fstream>
 #include <map>
 
-#include "components/tsdf/tsdf_mapper.hpp"
+#include "components/tsdf_mapper/tsdf_mapper.hpp"
 #include "core/io/ply.hpp"
 #include "eval/team_reachable.hpp"
 #include "executors/log.hpp"
@@ -68,7 +68,7 @@ std::vector<MeshScore> mapper_meshes(const Launch& launch, const MissionMonitor&
   std::vector<MeshScore> scores;
   std::vector<std::string> component_names;
   for (const auto& c : launch.components()) {
-    const auto* mapper = dynamic_cast<const tsdf::TsdfMapper*>(c.get());
+    const auto* mapper = dynamic_cast<const tsdf_mapper::TsdfMapper*>(c.get());
     if (mapper == nullptr) continue;
     MeshScore s;
     // a centralized mapper is the ground station's; the others are a robot's

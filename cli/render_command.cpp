@@ -17,7 +17,7 @@ sim::RobotSpec make_robot(const RenderOptions& o, double x, double y, double yaw
   sim::RobotSpec r;
   r.id = 1;
   r.name = "viewer";
-  r.kind = o.kind == "multirotor" ? sim::RobotKind::kMultirotor : sim::RobotKind::kGround;
+  r.kind = o.kind == "multirotor" ? robot::RobotKind::kMultirotor : robot::RobotKind::kGround;
   r.start_x_m = x;
   r.start_y_m = y;
   r.start_z_m = o.z_m;
@@ -25,7 +25,7 @@ sim::RobotSpec make_robot(const RenderOptions& o, double x, double y, double yaw
   r.camera.width = o.width;
   r.camera.height = o.height;
   r.camera.max_range_m = 50;
-  if (r.kind == sim::RobotKind::kMultirotor) {
+  if (r.kind == robot::RobotKind::kMultirotor) {
     r.camera.baseline_m = 0.11;
     r.camera.mount_up_m = 0.0;
   }

@@ -10,7 +10,7 @@
 #include "cli/mesh_scores.hpp"
 #include "components/low_level/low_level_planner.hpp"
 #include "components/team_simulator/team_simulator.hpp"
-#include "components/tsdf/tsdf_mapper.hpp"
+#include "components/tsdf_mapper/tsdf_mapper.hpp"
 #include "executors/log.hpp"
 #include "executors/trace.hpp"
 #include "mission/run_files.hpp"
@@ -127,7 +127,7 @@ Json run_metrics(const Launch& launch, const MissionMonitor& monitor, const RunF
   std::string architecture = "single";
   uint64_t bytes = 0;
   for (const auto& c : launch.components())
-    if (const auto* mapper = dynamic_cast<const tsdf::TsdfMapper*>(c.get())) {
+    if (const auto* mapper = dynamic_cast<const tsdf_mapper::TsdfMapper*>(c.get())) {
       architecture = mapper->config().mode;
       bytes += mapper->stats().patch_wire_bytes;
     }

@@ -58,7 +58,7 @@ int run_scenegen(const ScenegenOptions& o) {
       "space %s (%zu of %zu cells reachable), %d draw(s), %d repair(s); wrote %s\n",
       s.name.c_str(), s.max_m.x - s.min_m.x, s.max_m.y - s.min_m.y, s.max_m.z - s.min_m.z,
       s.wall_height_m > 0 ? ", walls" : "", s.ceiling ? ", ceiling" : "", s.boxes.size(),
-      s.cylinders.size(), starts.size(), to_string(scenegen::robot_kind(*family)).c_str(),
+      s.cylinders.size(), starts.size(), robot::to_string(scenegen::robot_kind(*family)),
       fs.connected ? "connected" : "NOT connected", fs.reachable_cells, fs.free_cells,
       generated->draws, generated->repairs, path.c_str());
   return 0;

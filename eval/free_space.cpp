@@ -8,6 +8,8 @@
 #include <limits>
 #include <sstream>
 
+#include "core/robot/body_model.hpp"
+
 namespace scancrew::eval {
 
 namespace {
@@ -20,16 +22,17 @@ bool positive(double v) {
   return v > 0 && std::isfinite(v);
 }
 
-std::string check(const BodyModel& b, double cell_m) {
+std::string check(const FreeSpaceBody& b, double cell_m) {
   std::ostringstream msg;
   if (!positive(b.radius_m))
     msg << "body radius_m must be positive, not " << b.radius_m;
   else if (!positive(cell_m))
     msg << "cell_m must be positive (or 0: the default), not " << cell_m;
-  else if (b.kind == sim::RobotKind::kGround && !(b.height_m > b.clearance_m && b.clearance_m >= 0))
+  else if (b.kind == robot::RobotKind::kGround &&
+           !(b.height_m > b.clearance_m && b.clearance_m >= 0))
     msg << "a ground body needs 0 <= clearance_m < height_m, not " << b.clearance_m << " and "
         << b.height_m;
-  else if (b.kind == sim::RobotKind::kMultirotor &&
+  else if (b.kind == robot::RobotKind::kMultirotor &&
            !(b.min_altitude_m <= b.max_altitude_m && std::isfinite(b.min_altitude_m) &&
              std::isfinite(b.max_altitude_m)))
     msg << "the altitude band [" << b.min_altitude_m << ", " << b.max_altitude_m << "] m is empty";
@@ -38,16 +41,15 @@ std::string check(const BodyModel& b, double cell_m) {
 
 }  // namespace
 
-BodyModel default_body(sim::RobotKind kind) {
-  BodyModel body;
+FreeSpaceBody default_body(robot::RobotKind kind) {
+  const robot::BodyModel model = robot::BodyModel::of(kind);
+  FreeSpaceBody body;
   body.kind = kind;
-  if (kind == sim::RobotKind::kGround) {
-    // The safety ellipse's minor semi-axis: the half width the robot needs to drive along a
-    // passage (it turns to face it). Its height covers the body and the camera (0.35 m).
-    body.radius_m = 0.25;
-    body.height_m = std::max(0.4, 2 * sim::body_size(kind).half_z_m);
+  body.radius_m = model.footprint_radius_m();
+  if (kind == robot::RobotKind::kGround) {
+    body.height_m = model.height_m;
+    body.clearance_m = model.underside_m;
   } else {
-    body.radius_m = 1.0;  // the collision sphere, table 2.1
     body.min_altitude_m = body.radius_m;
     body.max_altitude_m = 20.0;
   }
@@ -55,10 +57,11 @@ BodyModel default_body(sim::RobotKind kind) {
 }
 
 Result<FreeSpace, std::string> FreeSpace::build(const sim::SceneSolids& solids,
-                                                const sim::SceneSpec& scene, const BodyModel& body,
+                                                const sim::SceneSpec& scene,
+                                                const FreeSpaceBody& body,
                                                 const std::vector<msg::Vec3>& starts,
                                                 const FreeSpaceOptions& options) {
-  const bool ground = body.kind == sim::RobotKind::kGround;
+  const bool ground = body.kind == robot::RobotKind::kGround;
   const double cell_m =
       options.cell_m != 0 ? options.cell_m : (ground ? kGroundCellM : kMultirotorCellM);
   if (std::string e = check(body, cell_m); !e.empty()) return make_unexpected("free space: " + e);
@@ -163,7 +166,7 @@ bool FreeSpace::connected() const {
 msg::Vec3 FreeSpace::cell_center(int64_t i, int64_t j, int64_t k) const {
   const auto at = [&](double o, int64_t n) { return o + (static_cast<double>(n) + 0.5) * cell_m_; };
   return {at(origin_.x, i), at(origin_.y, j),
-          body_.kind == sim::RobotKind::kGround ? 0.0 : at(origin_.z, k)};
+          body_.kind == robot::RobotKind::kGround ? 0.0 : at(origin_.z, k)};
 }
 
 int64_t FreeSpace::cell_of(const msg::Vec3& p) const {
@@ -172,7 +175,7 @@ int64_t FreeSpace::cell_of(const msg::Vec3& p) const {
     return std::isfinite(f) && std::abs(f) < 1e15 ? static_cast<int64_t>(f) : int64_t{-1};
   };
   const int64_t i = at(p.x, origin_.x), j = at(p.y, origin_.y);
-  const int64_t k = body_.kind == sim::RobotKind::kGround ? 0 : at(p.z, origin_.z);
+  const int64_t k = body_.kind == robot::RobotKind::kGround ? 0 : at(p.z, origin_.z);
   if (i < 0 || j < 0 || k < 0 || i >= nx_ || j >= ny_ || k >= nz_) return -1;
   return index(i, j, k);
 }
@@ -185,7 +188,7 @@ bool FreeSpace::reachable(const msg::Vec3& body_position) const {
 std::vector<msg::Vec3> FreeSpace::reachable_positions(double spacing_m) const {
   const int64_t step =
       std::max<int64_t>(1, static_cast<int64_t>(std::llround(spacing_m / cell_m_)));
-  const int64_t step_z = body_.kind == sim::RobotKind::kGround ? 1 : step;
+  const int64_t step_z = body_.kind == robot::RobotKind::kGround ? 1 : step;
   std::vector<msg::Vec3> out;
   for (int64_t bk = 0; bk < nz_; bk += step_z)
     for (int64_t bj = 0; bj < ny_; bj += step)

@@ -31,20 +31,21 @@
 
 namespace scancrew::eval {
 
-struct BodyModel {
-  sim::RobotKind kind = sim::RobotKind::kGround;
+// The body FreeSpace tests, from the kind's BodyModel (core/robot/body_model.hpp): its
+// footprint radius, height and underside, and for a multirotor the band it flies in.
+struct FreeSpaceBody {
+  robot::RobotKind kind = robot::RobotKind::kGround;
   double radius_m = 0.3;  // ground: footprint disc radius; multirotor: body sphere radius
   double height_m = 0.4;  // ground: body height above the floor
   double min_altitude_m = 1.0, max_altitude_m = 20.0;  // multirotor: band of the body centre
   double clearance_m = 0.05;  // ground: the underside above the floor (lower steps are crossed)
 };
 
-// Defaults for a kind, from sim::body_size and the thesis (ground: the 0.55 x 0.25 m safety
-// ellipse's footprint; multirotor: the 1 m collision sphere of table 2.1). Ground: radius
-// 0.25 m, the ellipse's minor semi-axis (the half width it needs to drive along a passage,
-// facing it; it is not asked to turn on the spot there), height 0.4 m (body and camera).
-// Multirotor: radius 1 m, band 1 to 20 m.
-BodyModel default_body(sim::RobotKind kind);
+// A kind's body (robot::BodyModel::of): ground, radius 0.25 m, the safety ellipse's minor
+// semi-axis (the half width it needs to drive along a passage, facing it; it is not asked to
+// turn on the spot there), height 0.4 m (body and camera), underside 0.05 m; multirotor,
+// radius 1 m (the collision sphere of table 2.1), band 1 to 20 m.
+FreeSpaceBody default_body(robot::RobotKind kind);
 
 struct FreeSpaceOptions {
   double cell_m = 0.0;  // 0: 0.2 m ground, 0.5 m multirotor
@@ -55,7 +56,8 @@ class FreeSpace {
   // Errors: a body or cell size that is not positive and finite, an empty altitude band,
   // empty bounds, a grid over 2^31 cells, no starts.
   static Result<FreeSpace, std::string> build(const sim::SceneSolids& solids,
-                                              const sim::SceneSpec& scene, const BodyModel& body,
+                                              const sim::SceneSpec& scene,
+                                              const FreeSpaceBody& body,
                                               const std::vector<msg::Vec3>& starts,
                                               const FreeSpaceOptions& options = {});
 
@@ -69,7 +71,7 @@ class FreeSpace {
   // passage narrower than the spacing still gets positions.
   std::vector<msg::Vec3> reachable_positions(double spacing_m) const;
 
-  const BodyModel& body() const { return body_; }
+  const FreeSpaceBody& body() const { return body_; }
   double cell_m() const { return cell_m_; }
   // Body position of cell (i, j, k) (ground: k = 0, z = 0).
   msg::Vec3 cell_center(int64_t i, int64_t j, int64_t k) const;
@@ -83,7 +85,7 @@ class FreeSpace {
   int64_t cell_of(const msg::Vec3& p) const;
   void flood(std::vector<int64_t> seeds);
 
-  BodyModel body_;
+  FreeSpaceBody body_;
   double cell_m_ = 0;
   msg::Vec3 origin_;  // the low corner of cell (0, 0, 0)
   int64_t nx_ = 0, ny_ = 0, nz_ = 1;

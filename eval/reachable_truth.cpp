@@ -143,7 +143,7 @@ Result<ReachableTruth, std::string> reachable_truth(
     return make_unexpected(std::string("reachable truth: points and normals differ in length"));
   if (std::string e = check(observer, options); !e.empty())
     return make_unexpected("reachable truth: " + e);
-  const bool ground = free_space.body().kind == sim::RobotKind::kGround;
+  const bool ground = free_space.body().kind == robot::RobotKind::kGround;
   const double spacing = options.pose_spacing_m > 0 ? options.pose_spacing_m : (ground ? 0.5 : 1.0);
   const std::vector<Vec3> poses = free_space.reachable_positions(spacing);
   if (poses.empty())
@@ -272,7 +272,7 @@ sim::SurfaceSamples observable_samples(const sim::SurfaceSamples& truth,
 }
 
 Result<SceneReachableTruth, std::string> scene_reachable_truth(
-    const std::string& scene_path, const BodyModel& body, const std::vector<msg::Vec3>& starts,
+    const std::string& scene_path, const FreeSpaceBody& body, const std::vector<msg::Vec3>& starts,
     const sim::CameraSpec& camera, const sim::SamplingOptions& sampling,
     const ReachableTruthOptions& options) {
   auto scene = sim::load_scene(scene_path);
@@ -302,7 +302,7 @@ Result<SceneReachableTruth, std::string> scene_reachable_truth(
 }
 
 Result<SceneReachableTruth, std::string> scene_reachable_truth(
-    const std::string& scene_path, sim::RobotKind kind, const std::vector<msg::Vec3>& starts,
+    const std::string& scene_path, robot::RobotKind kind, const std::vector<msg::Vec3>& starts,
     const sim::SamplingOptions& sampling) {
   return scene_reachable_truth(scene_path, default_body(kind), starts, sim::CameraSpec{}, sampling);
 }

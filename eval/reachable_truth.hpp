@@ -99,12 +99,12 @@ struct SceneReachableTruth {
   double seconds_free_space = 0, seconds_rays = 0;  // wall-clock
 };
 Result<SceneReachableTruth, std::string> scene_reachable_truth(
-    const std::string& scene_path, const BodyModel& body, const std::vector<msg::Vec3>& starts,
+    const std::string& scene_path, const FreeSpaceBody& body, const std::vector<msg::Vec3>& starts,
     const sim::CameraSpec& camera, const sim::SamplingOptions& sampling = {},
     const ReachableTruthOptions& options = {});
 // The same with default_body(kind) and a default sim::CameraSpec.
 Result<SceneReachableTruth, std::string> scene_reachable_truth(
-    const std::string& scene_path, sim::RobotKind kind, const std::vector<msg::Vec3>& starts,
+    const std::string& scene_path, robot::RobotKind kind, const std::vector<msg::Vec3>& starts,
     const sim::SamplingOptions& sampling = {});
 
 }  // namespace scancrew::eval

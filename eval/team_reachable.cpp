@@ -13,7 +13,7 @@ Result<std::vector<uint8_t>, std::string> team_observable(
   std::vector<uint8_t> observable(points.size(), 0);
   if (team.empty()) return observable;
   const sim::SceneSolids solids(scene, placed_meshes);
-  for (const sim::RobotKind kind : {sim::RobotKind::kGround, sim::RobotKind::kMultirotor}) {
+  for (const robot::RobotKind kind : {robot::RobotKind::kGround, robot::RobotKind::kMultirotor}) {
     std::vector<msg::Vec3> starts;
     for (const TeamStart& t : team)
       if (t.kind == kind) starts.push_back(t.position);
@@ -22,9 +22,9 @@ Result<std::vector<uint8_t>, std::string> team_observable(
     if (!free_space) return make_unexpected(free_space.error());
     for (size_t i = 0; i < starts.size(); ++i)
       if (!free_space->start_free(i))
-        return make_unexpected(scene.source + ": a " + sim::to_string(kind) + " robot's body at (" +
-                               std::to_string(starts[i].x) + ", " + std::to_string(starts[i].y) +
-                               ", " + std::to_string(starts[i].z) +
+        return make_unexpected(scene.source + ": a " + robot::to_string(kind) +
+                               " robot's body at (" + std::to_string(starts[i].x) + ", " +
+                               std::to_string(starts[i].y) + ", " + std::to_string(starts[i].z) +
                                ") overlaps the scene: its reachable space is empty");
     auto seen = reachable_truth(points, normals, solids, *free_space,
                                 observer_from_camera(sim::default_camera(kind)));

@@ -20,7 +20,7 @@
 namespace scancrew::eval {
 
 struct TeamStart {
-  sim::RobotKind kind = sim::RobotKind::kGround;
+  robot::RobotKind kind = robot::RobotKind::kGround;
   msg::Vec3 position;  // the body's (ground: on the floor)
 };
 

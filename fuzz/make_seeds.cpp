@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "components/recorder/log_file.hpp"
-#include "components/tsdf/patch_codec.hpp"
+#include "core/tsdf/patch_codec.hpp"
 #include "interfaces/codec.hpp"
 #include "interfaces/message_fields.hpp"
 

@@ -1,4 +1,4 @@
-// The TSDF map patch decoder (components/tsdf/patch_codec.hpp). Random bytes are seldom a
+// The TSDF map patch decoder (core/tsdf/patch_codec.hpp). Random bytes are seldom a
 // zstd frame, so the input is usually compressed here first and the decoder's own checks
 // (counts, indices, codes) see it. Byte 0: bit 0 raw (as received) or compressed; bit 1 a
 // raw_bytes field that is not the payload's size (bytes 3-4 then add to it); bit 2 a voxel
@@ -7,7 +7,7 @@
 
 #include <vector>
 
-#include "components/tsdf/patch_codec.hpp"
+#include "core/tsdf/patch_codec.hpp"
 #include "fuzz/fuzz_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

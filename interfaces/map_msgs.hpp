@@ -13,7 +13,7 @@
 namespace scancrew::msg {
 
 // One patch of a robot's manifold map (thesis 4.4.1): the blocks a few consecutive depth
-// maps observed, in the compact wire format of components/tsdf/patch_codec.hpp (observed
+// maps observed, in the compact wire format of core/tsdf/patch_codec.hpp (observed
 // blocks only, quantised distance and weight, zstd with a content checksum). The voxels stay
 // on the world lattice (block coordinates in the world frame); T_world_patch, the pose of
 // the patch's first depth map, is the patch's frame, kept for map deformation.
@@ -59,7 +59,7 @@ struct IseSet {
                          // a bool: any decoded byte is a valid value)
 };
 
-// Robot types as bits (components/ise/ise_config.hpp RobotType).
+// Robot kinds as bits (core/robot/robot_kind.hpp, kind_bit).
 inline constexpr uint32_t kGroundRobotBit = 1u, kMultirotorBit = 2u;
 
 struct Viewpoint {

@@ -112,7 +112,7 @@ void draw_mesh(cv::Mat& img, const io::TriangleMesh& mesh, const TopViewGeometry
   for (const size_t i : order) {
     // a face turned down (a ceiling's underside) is seen from below, not from above: it
     // would hide the floor and everything on it. Reconstructions are wound counter-clockwise
-    // seen from outside (components/tsdf/mesher.hpp), so the face normal tells.
+    // seen from outside (core/tsdf/mesher.hpp), so the face normal tells.
     const auto& t = mesh.triangles[i];
     const msg::Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
     const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;

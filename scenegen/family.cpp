@@ -14,8 +14,8 @@ std::optional<Family> parse_family(std::string_view name) {
   return std::nullopt;
 }
 
-sim::RobotKind robot_kind(Family family) {
-  return family == Family::kIndoor ? sim::RobotKind::kGround : sim::RobotKind::kMultirotor;
+robot::RobotKind robot_kind(Family family) {
+  return family == Family::kIndoor ? robot::RobotKind::kGround : robot::RobotKind::kMultirotor;
 }
 
 std::string to_string(Passage::Kind kind) {

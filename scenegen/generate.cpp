@@ -39,7 +39,7 @@ struct Check {
 
 Result<Check, std::string> check(const sim::SceneSpec& scene, Family family) {
   const sim::SceneSolids solids(scene, {});
-  const eval::BodyModel body = eval::default_body(robot_kind(family));
+  const eval::FreeSpaceBody body = eval::default_body(robot_kind(family));
   std::vector<msg::Vec3> points;
   for (const auto& p : family == Family::kIndoor ? scene.starts.ground : scene.starts.multirotor)
     points.push_back(p.position_m);

@@ -26,7 +26,7 @@ namespace scancrew::scenegen {
 enum class Family { kIndoor, kOutdoor };
 std::string to_string(Family family);
 std::optional<Family> parse_family(std::string_view name);  // "indoor" | "outdoor"
-sim::RobotKind robot_kind(Family family);                   // ground indoors, multirotor outdoors
+robot::RobotKind robot_kind(Family family);                 // ground indoors, multirotor outdoors
 
 // A way through that the generator promises: nothing solid stands in `area` from the floor
 // up to clear_height_m, and the way is at least width_m wide (tested).

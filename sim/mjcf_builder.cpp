@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/robot/body_model.hpp"
+
 namespace scancrew::sim {
 
 namespace {
@@ -136,11 +138,11 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
 
   // robots
   for (const RobotSpec& r : robots) {
-    const BodySize b = body_size(r.kind);
+    const Eigen::Vector3d b = robot::BodyModel::of(r.kind).frame_half_m;
     const bool ground = r.kind == RobotKind::kGround;
     // a ground robot's body frame is on the floor under its centre; a multirotor's at its centre
     const double z0 = ground ? 0.0 : r.start_z_m;
-    const double geom_z = ground ? b.half_z_m + 0.02 : 0.0;
+    const double geom_z = ground ? b.z() + 0.02 : 0.0;
     x << "    <body name=\"" << body_name(r) << "\" pos=\"" << vec(r.start_x_m, r.start_y_m, z0)
       << "\">\n"
       << "      <joint name=\"" << joint_name(r, "x")
@@ -154,13 +156,13 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
       << "      <inertial pos=\"0 0 0\" mass=\"" << kRobotMassKg << "\" diaginertia=\""
       << vec(kRobotInertia, kRobotInertia, kRobotInertia) << "\"/>\n"
       << "      <geom name=\"" << r.name << "_body\" type=\"box\" pos=\"" << vec(0, 0, geom_z)
-      << "\" size=\"" << vec(b.half_x_m, b.half_y_m, b.half_z_m) << "\" material=\"robot_mat\""
+      << "\" size=\"" << vec(b.x(), b.y(), b.z()) << "\" material=\"robot_mat\""
       << " contype=\"2\" conaffinity=\"3\"/>\n";
     // cameras look along their -z; x right, y up: xyaxes "0 -1 0 0 0 1" looks along body +x
     const double fov_v =
         r.camera.fov_v_deg;  // MJCF fovy is in degrees whatever the compiler's angle unit
     const double cam_z = camera_height_m(r);
-    const double cam_x = std::max(r.camera.mount_forward_m, b.half_x_m + 0.01);
+    const double cam_x = std::max(r.camera.mount_forward_m, b.x() + 0.01);
     x << "      <camera name=\"" << camera_name(r, true) << "\" pos=\"" << vec(cam_x, 0, cam_z)
       << "\" xyaxes=\"0 -1 0 0 0 1\" fovy=\"" << fov_v << "\"/>\n"
       << "      <camera name=\"" << camera_name(r, false) << "\" pos=\""

@@ -4,10 +4,6 @@
 
 namespace scancrew::sim {
 
-std::string to_string(RobotKind kind) {
-  return kind == RobotKind::kGround ? "ground" : "multirotor";
-}
-
 double CameraSpec::fx_px() const {
   // MuJoCo renders with the vertical FOV (MJCF fovy) over the image height; the horizontal
   // FOV follows from the width (square pixels), within the aspect tolerance of validate()
@@ -34,11 +30,6 @@ std::string CameraSpec::validate() const {
     return "camera range must satisfy 0 < min < max";
   if (!(rate_hz > 0) || rate_hz > 1000) return "camera rate_hz must be in (0, 1000]";
   return {};
-}
-
-BodySize body_size(RobotKind kind) {
-  if (kind == RobotKind::kGround) return {0.22, 0.20, 0.10};
-  return {0.25, 0.25, 0.10};
 }
 
 CameraSpec default_camera(RobotKind kind) {

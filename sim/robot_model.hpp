@@ -7,12 +7,12 @@
 #include <cstdint>
 #include <string>
 
+#include "core/robot/robot_kind.hpp"
 #include "interfaces/geometry.hpp"
 
 namespace scancrew::sim {
 
-enum class RobotKind { kGround, kMultirotor };
-std::string to_string(RobotKind kind);
+using robot::RobotKind;
 
 struct CameraSpec {
   uint32_t width = 320, height = 185;  // square pixels: 90° x 60° needs width/height = tan45/tan30
@@ -51,14 +51,6 @@ struct RobotSpec {
   ImuSpec imu;
   DepthNoiseSpec depth_noise;
 };
-
-// Body sizes (half extents, m). The ground robot is a Wifibot-like 0.44 x 0.40 x 0.20 m
-// box, inside the thesis's 0.55 x 0.25 m (semi-axes) safety ellipsoid; the multirotor a
-// 0.50 x 0.50 x 0.20 m frame, inside its 1 m collision sphere (table 2.1).
-struct BodySize {
-  double half_x_m, half_y_m, half_z_m;
-};
-BodySize body_size(RobotKind kind);
 
 // The camera a robot of this kind carries unless its launch file says otherwise: the
 // defaults of CameraSpec (ground robots, table 5.3) or, for multirotors, table 2.1's baseline

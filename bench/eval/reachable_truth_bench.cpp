@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "kind must be ground or multirotor, not %s\n", argv[2]);
     return 2;
   }
-  const auto kind = kind_name == "ground" ? sim::RobotKind::kGround : sim::RobotKind::kMultirotor;
+  const auto kind =
+      kind_name == "ground" ? robot::RobotKind::kGround : robot::RobotKind::kMultirotor;
   std::vector<msg::Vec3> starts;
   std::stringstream list(argv[3]);
   for (std::string item; std::getline(list, item, ';');) {
@@ -44,7 +45,7 @@ int main(int argc, char** argv) {
   sim::SamplingOptions sampling;
   sampling.density_per_m2 = argc > 4 ? std::atof(argv[4]) : 2000;
   sim::CameraSpec camera;
-  if (kind == sim::RobotKind::kMultirotor) {
+  if (kind == robot::RobotKind::kMultirotor) {
     camera.min_range_m = 1.6;
     camera.max_range_m = 8.0;
     camera.mount_up_m = 0.0;

@@ -64,7 +64,7 @@ Result<FlightSummary, std::string> fly_lap(const sim::SceneSpec& scene,
   sim::RobotSpec robot;
   robot.id = 1;
   robot.name = "robot1";
-  robot.kind = sim::RobotKind::kMultirotor;
+  robot.kind = robot::RobotKind::kMultirotor;
   robot.start_x_m = scene.max_m.x;
   robot.start_y_m = scene.min_m.y;
   robot.start_z_m = lap(0).z();

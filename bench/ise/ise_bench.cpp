@@ -16,10 +16,10 @@
 #include "bench/bench_stats.hpp"
 #include "bench/ise/flight_sequence.hpp"
 #include "bench/tsdf/depth_sequence.hpp"
-#include "components/ise/gain.hpp"
-#include "components/ise/ise_pipeline.hpp"
-#include "components/tsdf/integrator.hpp"
-#include "components/tsdf/tsdf_map.hpp"
+#include "core/ise/gain.hpp"
+#include "core/ise/ise_pipeline.hpp"
+#include "core/tsdf/integrator.hpp"
+#include "core/tsdf/tsdf_map.hpp"
 #include "interfaces/eigen_conversions.hpp"
 
 namespace scancrew::bench {
@@ -47,7 +47,7 @@ Case parking_lot_case() {
   c.tsdf.min_range_m = 0.3;
   c.tsdf.max_range_m = 5.0;
   ise::RobotTypeSpec ground;
-  ground.type = ise::RobotType::kGround;
+  ground.type = ise::RobotKind::kGround;
   ground.delta_pose_m = 1.3;
   ground.min_range_m = 0.3;
   ground.max_range_m = 5.0;
@@ -68,7 +68,7 @@ Case powerplant_case() {
   c.tsdf.min_range_m = 1.6;
   c.tsdf.max_range_m = 8.0;
   ise::RobotTypeSpec uav;
-  uav.type = ise::RobotType::kMultirotor;
+  uav.type = ise::RobotKind::kMultirotor;
   uav.delta_pose_m = 4.7;
   uav.min_range_m = 1.6;
   uav.max_range_m = 8.0;
@@ -234,7 +234,7 @@ Json row(const Case& c, const Incremental& run, const Full& full, size_t warmup)
   j["matches_full"] =
       r.ises.size() == f.ises.size() && r.viewpoints.size() == f.viewpoints.size() &&
       r.clusters.size() == f.clusters.size() && r.inspectable_count == f.inspectable_count;
-  j["robot_type"] = ise::to_string(t.type);
+  j["robot_type"] = robot::to_string(t.type);
   j["delta_pose_m"] = t.delta_pose_m;
   j["camera_range_m"] = {t.min_range_m, t.max_range_m};
   j["clearance_m"] = t.clearance_m;

@@ -1,7 +1,7 @@
 #pragma once
 
 // `scancrew bench ise`: ISE extraction, viewpoints, visibility, clustering and gain
-// (components/ise, thesis 2.4.2, 2.4.3), incremental and full, on two maps built while
+// (core/ise, thesis 2.4.2, 2.4.3), incremental and full, on two maps built while
 // the bench runs (figures: docs/ise_bench.md).
 //
 //   parking lot, voxel 0.2 m: a ground robot's noisy depth along the loop around the

@@ -16,7 +16,7 @@
 #include "bench/bench_stats.hpp"
 #include "bench/pipeline/pipeline_probe.hpp"
 #include "components/stereo/stereo_depth.hpp"
-#include "components/tsdf/tsdf_mapper.hpp"
+#include "components/tsdf_mapper/tsdf_mapper.hpp"
 #include "executors/launch.hpp"
 #include "executors/publisher.hpp"
 
@@ -256,7 +256,7 @@ Result<Trial, std::string> run_trial(const PipelineBenchOptions& o, const ImageS
                            ": the bench runs the graph on the wall clock with a threaded "
                            "executor (clock: wall, executor: multi_threaded)");
   auto* probe = launch.find_component<PipelineProbe>();
-  auto* mapper = launch.find_component<tsdf::TsdfMapper>();
+  auto* mapper = launch.find_component<tsdf_mapper::TsdfMapper>();
   auto* stereo = launch.find_component<perception::StereoDepth>();
   if (probe == nullptr || mapper == nullptr || stereo == nullptr)
     return make_unexpected(o.launch_path +

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <utility>
 
-#include "components/tsdf/map_update.hpp"
 #include "executors/registry.hpp"
 #include "interfaces/map_msgs.hpp"
+#include "interfaces/map_update.hpp"
 
 namespace scancrew::bench {
 
@@ -77,8 +77,8 @@ Result<void, std::string> PipelineProbe::on_configure() {
   };
   create_subscription<msg::DepthImage>(
       ns + "depth", qos, [this, keep](Sample<msg::DepthImage>&& s) { keep(depth_, s->header); });
-  create_subscription<tsdf::MapUpdate>(
-      ns + "map", qos, [this, keep](Sample<tsdf::MapUpdate>&& s) { keep(maps_, s->header); });
+  create_subscription<msg::MapUpdate>(
+      ns + "map", qos, [this, keep](Sample<msg::MapUpdate>&& s) { keep(maps_, s->header); });
   create_subscription<msg::ViewpointClusters>(
       ns + "clusters", qos,
       [this, keep](Sample<msg::ViewpointClusters>&& s) { keep(clusters_, s->header); });

@@ -15,8 +15,8 @@
 #include "bench/tsdf/depth_sequence.hpp"
 #include "components/low_level/motion_planner.hpp"
 #include "components/low_level/obstacle_geometry.hpp"
-#include "components/tsdf/integrator.hpp"
-#include "components/tsdf/tsdf_map.hpp"
+#include "core/tsdf/integrator.hpp"
+#include "core/tsdf/tsdf_map.hpp"
 #include "interfaces/eigen_conversions.hpp"
 #include "sim/mesh_io.hpp"
 #include "sim/robot_model.hpp"
@@ -51,7 +51,7 @@ Case parking_lot_case(uint64_t seed) {
   c.tsdf.truncation_m = 3 * c.tsdf.voxel_m;
   c.tsdf.min_range_m = 0.3;
   c.tsdf.max_range_m = 5.0;
-  c.planner.robot_kind = low_level::RobotKind::kGround;  // table 5.3 body, the defaults
+  c.planner.robot_kind = robot::RobotKind::kGround;  // table 5.3 body, the defaults
   c.planner.body_margin_m = 0.5 * c.tsdf.voxel_m;
   c.planner.unknown_is_occupied = true;
   c.planner.seed = seed;
@@ -67,7 +67,7 @@ Case powerplant_case(uint64_t seed) {
   c.tsdf.truncation_m = 3 * c.tsdf.voxel_m;
   c.tsdf.min_range_m = 1.6;
   c.tsdf.max_range_m = 8.0;
-  c.planner.robot_kind = low_level::RobotKind::kMultirotor;  // table 2.1: 1 m sphere
+  c.planner.robot_kind = robot::RobotKind::kMultirotor;  // table 2.1: 1 m sphere
   c.planner.body_margin_m = 0.5 * c.tsdf.voxel_m;
   // the lap's map has no connected free space for the 1 m sphere when unknown space
   // collides (measured: no path at all), and the multirotor's own corridor is never in view:
@@ -218,10 +218,10 @@ Json run_queries(const Case& c, Run& run, const low_level::ObstacleGeometry& tru
   size_t truly_colliding = 0;  // free in the map, not in the true geometry (should be none)
   PlannerConfig bare = c.planner;
   bare.body_margin_m = 0;
-  const low_level::RobotBody true_body = low_level::body_of(bare);
+  const robot::BodyModel true_body = low_level::body_of(bare);
   for (size_t i = 0; i < run.poses.size(); i += 2) {
     const msg::Waypoint& p = run.poses[i];
-    const bool in_band = c.planner.robot_kind == low_level::RobotKind::kGround ||
+    const bool in_band = c.planner.robot_kind == robot::RobotKind::kGround ||
                          (p.position.z > c.planner.multirotor_min_altitude_m &&
                           p.position.z < c.planner.multirotor_max_altitude_m);
     if (!in_band || !run.planner.is_free(p)) continue;
@@ -246,7 +246,7 @@ Json run_queries(const Case& c, Run& run, const low_level::ObstacleGeometry& tru
                     std::clamp(box.min().z() + u(rng) * box.sizes().z(),
                                c.planner.multirotor_min_altitude_m + 0.01,
                                c.planner.multirotor_max_altitude_m - 0.01)};
-      if (c.planner.robot_kind == low_level::RobotKind::kGround) w.position.z = 0;
+      if (c.planner.robot_kind == robot::RobotKind::kGround) w.position.z = 0;
       w.yaw_rad = yaw(rng);
       if (run.planner.is_free(w)) free.push_back(w);
     }
@@ -416,7 +416,7 @@ int run_planner_bench(const PlannerBenchOptions& o) {
             parking};
     Json row;
     row["scene"] = c.scene;
-    row["robot"] = std::string(low_level::to_string(c.planner.robot_kind));
+    row["robot"] = std::string(robot::to_string(c.planner.robot_kind));
     row["voxel_m"] = c.tsdf.voxel_m;
     if (parking) {
       auto seq = render_depth_sequence(*scene, {.width = 320,
@@ -465,9 +465,9 @@ int run_planner_bench(const PlannerBenchOptions& o) {
     row["map_blocks"] = run.last->block_count();
     row["map_update_ms"] = {{"mean", mean(run.update_ms)}, {"max", max_of(run.update_ms)}};
     row.update(run_queries(c, run, *truth, queries, firsts, o.seed));
-    row["body_radii_m"] = {low_level::body_of(c.planner).radii_m.x(),
-                           low_level::body_of(c.planner).radii_m.y(),
-                           low_level::body_of(c.planner).radii_m.z()};
+    row["body_radii_m"] = {low_level::body_of(c.planner).safety_radii_m.x(),
+                           low_level::body_of(c.planner).safety_radii_m.y(),
+                           low_level::body_of(c.planner).safety_radii_m.z()};
     row["body_margin_m"] = c.planner.body_margin_m;
     row["unknown_is_occupied"] = c.planner.unknown_is_occupied;
     row["time_limit_s"] = c.planner.planner_time_limit_s;

@@ -85,7 +85,7 @@ Result<DepthSequence, std::string> render_depth_sequence(const sim::SceneSpec& s
   sim::RobotSpec robot;
   robot.id = 1;
   robot.name = "robot1";
-  robot.kind = sim::RobotKind::kGround;
+  robot.kind = robot::RobotKind::kGround;
   robot.start_x_m = kLoop[3][0];
   robot.start_y_m = kLoop[3][1];
   auto made =

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "components/tsdf/integrator.hpp"
 #include "core/result.hpp"
+#include "core/tsdf/integrator.hpp"
 #include "interfaces/geometry.hpp"
 #include "sim/robot_model.hpp"
 #include "sim/scene.hpp"

@@ -11,14 +11,13 @@
 #include <cstdint>
 #include <functional>
 
+#include "core/robot/robot_kind.hpp"
+
 namespace scancrew::low_level {
 
 // Ground robots move in the plane (paths in 2D, safety ellipse); aerial robots (multirotors)
 // in 3D (safety sphere). Thesis 2.5.3 item 1 and item 4.
-enum class RobotKind : uint8_t { kGround, kMultirotor };
-inline const char* to_string(RobotKind kind) {
-  return kind == RobotKind::kGround ? "ground" : "multirotor";
-}
+using robot::RobotKind;
 
 // True when the map voxel holding `point_world` is occupied (known and φ ≤ 0, thesis
 // 1.3.3). Must be deterministic; called many times per check, from the caller's thread.

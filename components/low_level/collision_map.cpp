@@ -28,8 +28,8 @@ bool key_of(const tsdf::VoxelIndex& v, octomap::OcTreeKey& key) {
   return true;
 }
 
-std::shared_ptr<fcl::CollisionGeometryd> body_geometry(const RobotBody& body) {
-  const Eigen::Vector3d& r = body.radii_m;
+std::shared_ptr<fcl::CollisionGeometryd> body_geometry(const robot::BodyModel& body) {
+  const Eigen::Vector3d& r = body.safety_radii_m;
   if (r.x() == r.y() && r.y() == r.z()) return std::make_shared<fcl::Sphered>(r.x());
   return std::make_shared<fcl::Ellipsoidd>(r.x(), r.y(), r.z());
 }
@@ -37,7 +37,7 @@ std::shared_ptr<fcl::CollisionGeometryd> body_geometry(const RobotBody& body) {
 }  // namespace
 
 struct CollisionMap::Impl {
-  RobotBody body;
+  robot::BodyModel body;
   bool unknown_is_occupied = true;
   std::shared_ptr<const tsdf::MapSnapshot> snapshot;
   double voxel_m = 0;
@@ -50,7 +50,8 @@ struct CollisionMap::Impl {
   mutable fcl::CollisionRequestd request;
   mutable size_t checks = 0;
 
-  Impl(const RobotBody& b, bool unknown_occupied) : body(b), unknown_is_occupied(unknown_occupied) {
+  Impl(const robot::BodyModel& b, bool unknown_occupied)
+      : body(b), unknown_is_occupied(unknown_occupied) {
     body_object = std::make_unique<fcl::CollisionObjectd>(body_geometry(body));
     request.num_max_contacts = 1;
     request.enable_contact = false;
@@ -106,7 +107,7 @@ struct CollisionMap::Impl {
   }
 };
 
-CollisionMap::CollisionMap(const RobotBody& body, bool unknown_is_occupied)
+CollisionMap::CollisionMap(const robot::BodyModel& body, bool unknown_is_occupied)
     : impl_(std::make_unique<Impl>(body, unknown_is_occupied)) {}
 CollisionMap::~CollisionMap() = default;
 CollisionMap::CollisionMap(CollisionMap&&) noexcept = default;
@@ -203,7 +204,7 @@ tsdf::VoxelState CollisionMap::state_at(const Eigen::Vector3d& p) const {
   return impl_->snapshot->state_at(p);
 }
 
-const RobotBody& CollisionMap::body() const {
+const robot::BodyModel& CollisionMap::body() const {
   return impl_->body;
 }
 bool CollisionMap::unknown_is_occupied() const {

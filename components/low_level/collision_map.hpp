@@ -25,9 +25,9 @@
 #include <string>
 #include <vector>
 
-#include "components/low_level/robot_body.hpp"
-#include "components/tsdf/tsdf_map.hpp"
 #include "core/result.hpp"
+#include "core/robot/body_model.hpp"
+#include "core/tsdf/tsdf_map.hpp"
 
 namespace scancrew::low_level {
 
@@ -41,7 +41,7 @@ struct CollisionMapUpdate {
 
 class CollisionMap {
  public:
-  CollisionMap(const RobotBody& body, bool unknown_is_occupied);
+  CollisionMap(const robot::BodyModel& body, bool unknown_is_occupied);
   ~CollisionMap();
   CollisionMap(CollisionMap&&) noexcept;
   CollisionMap& operator=(CollisionMap&&) noexcept;
@@ -59,7 +59,7 @@ class CollisionMap {
   Eigen::AlignedBox3d extents() const;
   // The state of the voxel holding p: kUnknown outside the observed blocks too.
   tsdf::VoxelState state_at(const Eigen::Vector3d& p) const;
-  const RobotBody& body() const;
+  const robot::BodyModel& body() const;
   bool unknown_is_occupied() const;
   size_t leaf_count() const;  // leaves of the (pruned) tree, free ones included
   size_t checks() const;      // collides() calls so far

@@ -19,7 +19,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "components/tsdf/tsdf_map.hpp"
+#include "core/tsdf/tsdf_map.hpp"
 
 namespace scancrew::low_level {
 

@@ -119,7 +119,7 @@ Result<void, std::string> LowLevelPlanner::on_configure() {
   skipped_pub_ = create_publisher<msg::Odometry>("skipped_goal", {.pool_size = 2});
   create_subscription<msg::TeamPlan>("plan", {.depth = 4},
                                      [this](Sample<msg::TeamPlan>&& s) { on_plan(*s); });
-  create_subscription<tsdf::MapUpdate>("map", {.depth = 1}, [this](Sample<tsdf::MapUpdate>&& s) {
+  create_subscription<msg::MapUpdate>("map", {.depth = 1}, [this](Sample<msg::MapUpdate>&& s) {
     if (s->map == nullptr) return;
     map_ = s->map;
     planner_->update_map(map_, s->header.stamp_ns);

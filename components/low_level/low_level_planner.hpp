@@ -11,7 +11,7 @@
 //   in   plan          msg::TeamPlan     the sequence with this robot's id; a new one is put
 //                                        on hold until the current goal is reached (2.5.3
 //                                        item 2), taken at once when idle or waiting for it
-//   in   map           tsdf::MapUpdate   the robot's map (its estimate in distributed mode)
+//   in   map           msg::MapUpdate   the robot's map (its estimate in distributed mode)
 //   in   ises          msg::IseSet       C, for UtilityCheck
 //   in   pose_gt|odom  msg::Odometry     by pose_source (ground_truth | vio)
 //   in   /<ns>/robot_state, /<ns>/local_path, /<ns>/tour of every teammate (traffic policy,
@@ -57,10 +57,10 @@
 #include "components/low_level/stall_watch.hpp"
 #include "components/low_level/tour.hpp"
 #include "components/low_level/traffic_policy.hpp"
-#include "components/tsdf/map_update.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
 #include "interfaces/map_msgs.hpp"
+#include "interfaces/map_update.hpp"
 #include "interfaces/nav_msgs.hpp"
 
 namespace scancrew::low_level {

@@ -3,7 +3,7 @@
 #include <utility>
 
 #include "components/low_level/obstacle_check.hpp"
-#include "components/tsdf/tsdf_map.hpp"
+#include "core/tsdf/tsdf_map.hpp"
 
 namespace scancrew::low_level {
 

@@ -1,6 +1,6 @@
 #pragma once
 
-// Adapters from the TSDF map (components/tsdf/tsdf_map.hpp) to the callables the checks
+// Adapters from the TSDF map (core/tsdf/tsdf_map.hpp) to the callables the checks
 // take (check_types.hpp): occupancy for ObstacleCheck, free space for the traffic policy's
 // aside point. Kept out of the checks' library so that they stay independent of the map
 // type (library scancrew_low_level_checks_tsdf).

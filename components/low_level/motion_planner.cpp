@@ -114,7 +114,7 @@ std::string_view to_string(PlanStatus s) {
 
 struct MotionPlanner::Impl {
   PlannerConfig config;
-  RobotBody body;
+  robot::BodyModel body;
   CollisionMap map;
   int64_t map_stamp_ns = 0;
   ob::StateSpacePtr space;
@@ -160,7 +160,7 @@ struct MotionPlanner::Impl {
 
   // --- states and poses ---
   Eigen::Isometry3d pose_of(const ob::State* s) const {
-    double x = 0, y = 0, z = config.ground_body_center_z_m, yaw = 0;
+    double x = 0, y = 0, z = config.ground_body.safety_center_z_m, yaw = 0;
     if (ground()) {
       const auto* st = s->as<ob::SE2StateSpace::StateType>();
       x = st->getX();
@@ -180,7 +180,8 @@ struct MotionPlanner::Impl {
     return T_world_body;
   }
   Eigen::Vector3d center_of(const msg::Waypoint& w) const {
-    return {w.position.x, w.position.y, ground() ? config.ground_body_center_z_m : w.position.z};
+    return {w.position.x, w.position.y,
+            ground() ? config.ground_body.safety_center_z_m : w.position.z};
   }
   Eigen::Isometry3d pose_of(const msg::Waypoint& w) const {
     Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
@@ -244,8 +245,9 @@ struct MotionPlanner::Impl {
         std::min(1.0, config.collision_check_step_m / std::max(extent, 1e-9)));
     space->setup();
     // a sphere is the same at any yaw: its yaw needs no intermediate checks
-    const double lever_m =
-        std::abs(body.radii_m.x() - body.radii_m.y()) > 1e-9 ? body.bounding_radius_m() : 0.0;
+    const double lever_m = std::abs(body.safety_radii_m.x() - body.safety_radii_m.y()) > 1e-9
+                               ? body.bounding_radius_m()
+                               : 0.0;
     const double yaw_step = lever_m > 0 ? config.collision_check_step_m / lever_m
                                         : std::numeric_limits<double>::infinity();
     const ob::StateSpacePtr& yaw = space->as<ob::CompoundStateSpace>()->getSubspace(1);
@@ -368,9 +370,9 @@ struct MotionPlanner::Impl {
       GuideConfig g;
       // the body's mid-height layer: its cross-section there holds the disc of the smaller
       // semi-axis (higher and lower, the ellipsoid narrows)
-      g.z_lo_m = config.ground_body_center_z_m;
-      g.z_hi_m = config.ground_body_center_z_m;
-      g.clearance_m = body.radii_m.head<2>().minCoeff();
+      g.z_lo_m = config.ground_body.safety_center_z_m;
+      g.z_hi_m = config.ground_body.safety_center_z_m;
+      g.clearance_m = body.safety_radii_m.head<2>().minCoeff();
       g.spacing_m = body.bounding_radius_m();
       g.unknown_is_occupied = config.unknown_is_occupied;
       guide.emplace(*snapshot, box, g);
@@ -390,7 +392,7 @@ struct MotionPlanner::Impl {
         const double yaw = p.yaw + turn[k / side.size()];
         const double off = side[k % side.size()];
         w.position = {p.x - off * std::sin(yaw), p.y + off * std::cos(yaw),
-                      config.ground_body_center_z_m};
+                      config.ground_body.safety_center_z_m};
         w.yaw_rad = yaw;
         free = !map.collides(pose_of(w));
       }
@@ -687,7 +689,7 @@ size_t MotionPlanner::roadmap_vertices() const {
 const PlannerConfig& MotionPlanner::config() const {
   return impl_->config;
 }
-const RobotBody& MotionPlanner::body() const {
+const robot::BodyModel& MotionPlanner::body() const {
   return impl_->body;
 }
 

@@ -42,8 +42,8 @@
 #include <vector>
 
 #include "components/low_level/planner_config.hpp"
-#include "components/tsdf/tsdf_map.hpp"
 #include "core/result.hpp"
+#include "core/tsdf/tsdf_map.hpp"
 #include "interfaces/nav_msgs.hpp"
 
 namespace scancrew::low_level {
@@ -152,7 +152,7 @@ class MotionPlanner {
   void clear_roadmap();
   size_t roadmap_vertices() const;
   const PlannerConfig& config() const;
-  const RobotBody& body() const;
+  const robot::BodyModel& body() const;
 
  private:
   struct Impl;

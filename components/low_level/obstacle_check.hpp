@@ -62,7 +62,7 @@ struct ObstacleCheckResult {
 };
 
 // ObstacleCheck(q_curr, M). `voxel_m` is the map's voxel size; voxel centres lie at
-// (i + 0.5)·voxel_m, as in the TSDF map (components/tsdf/block.hpp).
+// (i + 0.5)·voxel_m, as in the TSDF map (core/tsdf/block.hpp).
 ObstacleCheckResult obstacle_check(const Eigen::Vector3d& position, double yaw_rad, double voxel_m,
                                    const OccupancyQuery& occupied,
                                    const ObstacleCheckConfig& config);

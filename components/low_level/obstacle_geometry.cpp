@@ -16,9 +16,10 @@ namespace scancrew::low_level {
 
 Eigen::Isometry3d body_pose(const PlannerConfig& config, const msg::Waypoint& w) {
   Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
-  T_world_body.translation() = Eigen::Vector3d(
-      w.position.x, w.position.y,
-      config.robot_kind == RobotKind::kGround ? config.ground_body_center_z_m : w.position.z);
+  T_world_body.translation() =
+      Eigen::Vector3d(w.position.x, w.position.y,
+                      config.robot_kind == RobotKind::kGround ? config.ground_body.safety_center_z_m
+                                                              : w.position.z);
   T_world_body.linear() = Eigen::AngleAxisd(w.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return T_world_body;
 }
@@ -66,8 +67,8 @@ size_t ObstacleGeometry::size() const {
   return impl_->objects.size();
 }
 
-bool ObstacleGeometry::collides(const RobotBody& body, const Eigen::Isometry3d& T) const {
-  const Eigen::Vector3d& r = body.radii_m;
+bool ObstacleGeometry::collides(const robot::BodyModel& body, const Eigen::Isometry3d& T) const {
+  const Eigen::Vector3d& r = body.safety_radii_m;
   std::shared_ptr<fcl::CollisionGeometryd> shape;
   if (r.x() == r.y() && r.y() == r.z())
     shape = std::make_shared<fcl::Sphered>(r.x());
@@ -83,7 +84,7 @@ bool ObstacleGeometry::collides(const RobotBody& body, const Eigen::Isometry3d& 
   return false;
 }
 
-PathCheck ObstacleGeometry::check_path(const PlannerConfig& config, const RobotBody& body,
+PathCheck ObstacleGeometry::check_path(const PlannerConfig& config, const robot::BodyModel& body,
                                        const std::vector<msg::Waypoint>& path,
                                        double step_m) const {
   PathCheck out;

@@ -46,11 +46,11 @@ class ObstacleGeometry {
                 const std::vector<std::array<uint32_t, 3>>& triangles);
   size_t size() const;
 
-  bool collides(const RobotBody& body, const Eigen::Isometry3d& T_world_body) const;
+  bool collides(const robot::BodyModel& body, const Eigen::Isometry3d& T_world_body) const;
 
   // Samples the path every step_m along each segment (position linear, yaw along the
   // shorter arc) and tests the body at each sample.
-  PathCheck check_path(const PlannerConfig& config, const RobotBody& body,
+  PathCheck check_path(const PlannerConfig& config, const robot::BodyModel& body,
                        const std::vector<msg::Waypoint>& path, double step_m) const;
 
  private:

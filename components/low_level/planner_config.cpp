@@ -8,9 +8,12 @@ namespace scancrew::low_level {
 std::string PlannerConfig::validate() const {
   auto positive = [](double v) { return std::isfinite(v) && v > 0; };
   for (int i = 0; i < 3; ++i)
-    if (!positive(ground_body_radii_m[i])) return "ground_body_radii_m: must be > 0";
-  if (!std::isfinite(ground_body_center_z_m)) return "ground_body_center_z_m: must be finite";
-  if (!positive(multirotor_body_radius_m)) return "multirotor_body_radius_m: must be > 0";
+    if (!positive(ground_body.safety_radii_m[i])) return "ground_body_radii_m: must be > 0";
+  if (!std::isfinite(ground_body.safety_center_z_m))
+    return "ground_body_center_z_m: must be finite";
+  for (int i = 0; i < 3; ++i)
+    if (!positive(multirotor_body.safety_radii_m[i]))
+      return "multirotor_body_radius_m: must be > 0";
   if (!std::isfinite(body_margin_m) || body_margin_m < 0) return "body_margin_m: must be >= 0";
   if (!std::isfinite(max_map_age_s) || max_map_age_s < 0) return "max_map_age_s: must be >= 0";
   if (!std::isfinite(bounds_margin_m) || bounds_margin_m < 0)
@@ -30,14 +33,9 @@ std::string PlannerConfig::validate() const {
   return {};
 }
 
-RobotBody body_of(const PlannerConfig& c) {
-  RobotBody b;
-  b.kind = c.robot_kind;
-  b.radii_m = c.robot_kind == RobotKind::kGround
-                  ? Eigen::Vector3d(c.ground_body_radii_m)
-                  : Eigen::Vector3d::Constant(c.multirotor_body_radius_m);
-  b.radii_m.array() += c.body_margin_m;
-  return b;
+robot::BodyModel body_of(const PlannerConfig& c) {
+  return (c.robot_kind == RobotKind::kGround ? c.ground_body : c.multirotor_body)
+      .inflated(c.body_margin_m);
 }
 
 PlannerConfig read_planner_config(ParamReader& p) {
@@ -45,11 +43,14 @@ PlannerConfig read_planner_config(ParamReader& p) {
   std::string type = "ground";
   p.choice("robot_type", type, {"ground", "multirotor"});
   c.robot_kind = type == "multirotor" ? RobotKind::kMultirotor : RobotKind::kGround;
-  std::vector<double> radii(c.ground_body_radii_m.data(), c.ground_body_radii_m.data() + 3);
+  Eigen::Vector3d& ground_radii = c.ground_body.safety_radii_m;
+  std::vector<double> radii(ground_radii.data(), ground_radii.data() + 3);
   p.optional_list("ground_body_radii_m", radii, 3, {1e-3, 100});
-  if (radii.size() == 3) c.ground_body_radii_m = Eigen::Vector3d(radii[0], radii[1], radii[2]);
-  p.optional("ground_body_center_z_m", c.ground_body_center_z_m, {-1e4, 1e4});
-  p.optional("multirotor_body_radius_m", c.multirotor_body_radius_m, {1e-3, 100});
+  if (radii.size() == 3) ground_radii = Eigen::Vector3d(radii[0], radii[1], radii[2]);
+  p.optional("ground_body_center_z_m", c.ground_body.safety_center_z_m, {-1e4, 1e4});
+  double multirotor_radius = c.multirotor_body.safety_radii_m.x();
+  p.optional("multirotor_body_radius_m", multirotor_radius, {1e-3, 100});
+  c.multirotor_body.safety_radii_m.setConstant(multirotor_radius);
   p.optional("body_margin_m", c.body_margin_m, {0, 10});
   p.optional("unknown_is_occupied", c.unknown_is_occupied);
   p.optional("max_map_age_s", c.max_map_age_s, {0, 1e6});

@@ -9,23 +9,22 @@
 #include <cstdint>
 #include <string>
 
-#include "components/low_level/robot_body.hpp"
+#include "components/low_level/check_types.hpp"  // RobotKind
+#include "core/robot/body_model.hpp"
 #include "executors/params.hpp"
 
 namespace scancrew::low_level {
 
 struct PlannerConfig {
   // key robot_type: ground (SE(2), z fixed) | multirotor (x, y, z, yaw)
-  RobotKind robot_kind = RobotKind::kGround;
+  robot::RobotKind robot_kind = robot::RobotKind::kGround;
 
   // --- body (thesis 2.5.3: ellipsoid for ground robots, sphere for multirotors) ---
-  // semi-axes along heading, across, vertical; table 5.3 gives 0.55 - 0.25 (the vertical
-  // one is ours: the body spans [centre_z − 0.25, centre_z + 0.25])
-  Eigen::Vector3d ground_body_radii_m = Eigen::Vector3d(0.55, 0.25, 0.25);
-  // height of the ellipsoid's centre above z = 0 (the floor): clear of the floor voxels,
-  // low enough to meet boxes 0.5 m tall
-  double ground_body_center_z_m = 0.5;
-  double multirotor_body_radius_m = 1.0;  // table 2.1
+  // each kind's BodyModel (core/robot/body_model.hpp); keys ground_body_radii_m [3] and
+  // ground_body_center_z_m set the ground body's safety volume, multirotor_body_radius_m the
+  // multirotor's sphere
+  robot::BodyModel ground_body = robot::BodyModel::of(robot::RobotKind::kGround);
+  robot::BodyModel multirotor_body = robot::BodyModel::of(robot::RobotKind::kMultirotor);
   // added to every semi-axis: an occupied voxel's box may start up to half a voxel
   // behind the true surface, so the margin keeps paths clear of the real geometry
   double body_margin_m = 0.1;
@@ -71,7 +70,7 @@ struct PlannerConfig {
 };
 
 // The body the config describes, the margin added.
-RobotBody body_of(const PlannerConfig& config);
+robot::BodyModel body_of(const PlannerConfig& config);
 
 // Reads the keys named above (robot_type, ground_body_radii_m [3], ground_body_center_z_m,
 // multirotor_body_radius_m, body_margin_m, unknown_is_occupied, max_map_age_s, bounds_margin_m,

@@ -88,8 +88,8 @@ Result<void, std::string> MissionMonitor::on_configure() {
     create_subscription<msg::IseSet>(prefix + "ises", {.depth = 1},
                                      [this, k](Sample<msg::IseSet>&& s) { on_ises(k, *s); });
     if (maps)
-      create_subscription<tsdf::MapUpdate>(
-          prefix + "map", {.depth = 1}, [this, k](Sample<tsdf::MapUpdate>&& s) { on_map(k, *s); });
+      create_subscription<msg::MapUpdate>(prefix + "map", {.depth = 1},
+                                          [this, k](Sample<msg::MapUpdate>&& s) { on_map(k, *s); });
   }
   create_timer(std::chrono::nanoseconds(std::llround(config_.path_period_s * 1e9)),
                [this] { on_path_tick(); });
@@ -103,7 +103,7 @@ std::vector<eval::TeamStart> MissionMonitor::team_starts() const {
   std::vector<eval::TeamStart> starts;
   for (const TeamMember& m : team()) {
     const bool ground = m.kind != "multirotor";
-    starts.push_back({.kind = ground ? sim::RobotKind::kGround : sim::RobotKind::kMultirotor,
+    starts.push_back({.kind = ground ? robot::RobotKind::kGround : robot::RobotKind::kMultirotor,
                       .position = {m.start_x_m, m.start_y_m, ground ? 0.0 : m.start_z_m}});
   }
   return starts;
@@ -182,7 +182,7 @@ void MissionMonitor::on_ises(size_t source, const msg::IseSet& ises) {
   check_finished();
 }
 
-void MissionMonitor::on_map(size_t source, const tsdf::MapUpdate& update) {
+void MissionMonitor::on_map(size_t source, const msg::MapUpdate& update) {
   const std::lock_guard lock(mutex_);
   sources_[source].map = update.map;
   for (RobotProgress& r : robots_)

@@ -39,10 +39,10 @@
 #include <vector>
 
 #include "components/mission/surface_coverage.hpp"
-#include "components/tsdf/map_update.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
 #include "interfaces/map_msgs.hpp"
+#include "interfaces/map_update.hpp"
 #include "interfaces/nav_msgs.hpp"
 #include "mission/run_files.hpp"
 #include "mission/time_breakdown.hpp"
@@ -131,7 +131,7 @@ class MissionMonitor final : public Component {
   void on_pose(size_t robot, const msg::Odometry& odom);
   void on_state(size_t robot, const msg::RobotState& state);
   void on_ises(size_t source, const msg::IseSet& ises);
-  void on_map(size_t source, const tsdf::MapUpdate& update);
+  void on_map(size_t source, const msg::MapUpdate& update);
   void on_path_tick();
   void on_coverage_tick();
   void account_time(double t);  // with mutex_ held

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "components/tsdf/tsdf_map.hpp"
 #include "core/result.hpp"
+#include "core/tsdf/tsdf_map.hpp"
 #include "eval/team_reachable.hpp"
 
 namespace scancrew::mission {

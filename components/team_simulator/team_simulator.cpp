@@ -31,8 +31,8 @@ int64_t period_ns(double rate_hz) {
 
 TeamSimulator::Config TeamSimulator::read_config(ParamReader& p) {
   Config c;
-  c.ground_camera = sim::default_camera(sim::RobotKind::kGround);
-  c.multirotor_camera = sim::default_camera(sim::RobotKind::kMultirotor);
+  c.ground_camera = sim::default_camera(robot::RobotKind::kGround);
+  c.multirotor_camera = sim::default_camera(robot::RobotKind::kMultirotor);
   p.required("scene", c.scene);
   p.optional("physics_step_s", c.physics_step_s, {1e-4, 1});
   p.optional("command_timeout_s", c.command_timeout_s, {0, 3600});
@@ -77,12 +77,12 @@ Result<void, std::string> TeamSimulator::on_configure() {
     sim::RobotSpec r;
     r.id = m.id;
     r.name = m.ns;
-    r.kind = m.kind == "multirotor" ? sim::RobotKind::kMultirotor : sim::RobotKind::kGround;
+    r.kind = m.kind == "multirotor" ? robot::RobotKind::kMultirotor : robot::RobotKind::kGround;
     r.start_x_m = m.start_x_m;
     r.start_y_m = m.start_y_m;
     r.start_z_m = m.start_z_m;
     r.start_yaw_rad = m.start_yaw_rad;
-    const bool ground = r.kind == sim::RobotKind::kGround;
+    const bool ground = r.kind == robot::RobotKind::kGround;
     r.camera = ground ? config_.ground_camera : config_.multirotor_camera;
     r.nominal_speed_mps = ground ? config_.ground_speed_mps : config_.multirotor_speed_mps;
     r.imu = config_.imu;

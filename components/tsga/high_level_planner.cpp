@@ -7,10 +7,10 @@
 #include <cstdio>
 
 #include "components/low_level/motion_planner.hpp"
-#include "components/tsdf/map_update.hpp"
 #include "executors/log.hpp"
 #include "executors/registry.hpp"
 #include "interfaces/eigen_conversions.hpp"
+#include "interfaces/map_update.hpp"
 
 namespace scancrew::tsga {
 
@@ -97,11 +97,11 @@ Result<void, std::string> HighLevelPlanner::on_configure() {
             "); use euclidean for a mixed team");
     low_level::PlannerConfig pc = config_.roadmap;
     pc.robot_kind =
-        kind == "multirotor" ? low_level::RobotKind::kMultirotor : low_level::RobotKind::kGround;
+        kind == "multirotor" ? robot::RobotKind::kMultirotor : robot::RobotKind::kGround;
     auto planner = low_level::MotionPlanner::create(pc);
     if (!planner) return make_unexpected(planner.error());
     roadmap_ = std::make_unique<low_level::MotionPlanner>(std::move(planner).value());
-    create_subscription<tsdf::MapUpdate>("map", {.depth = 1}, [this](Sample<tsdf::MapUpdate>&& s) {
+    create_subscription<msg::MapUpdate>("map", {.depth = 1}, [this](Sample<msg::MapUpdate>&& s) {
       if (s->map == nullptr) return;
       roadmap_->update_map(s->map, s->header.stamp_ns);
       have_map_ = true;

@@ -45,7 +45,7 @@
 //   euclidean  the straight line;
 //   roadmap    the low-level planner's path length, as in the thesis: a MotionPlanner of
 //              its own (LazyPRM* roadmap, components/low_level/motion_planner.hpp) follows
-//              the `map` topic (tsdf::MapUpdate; remap it to the robot's or the team's map)
+//              the `map` topic (msg::MapUpdate; remap it to the robot's or the team's map)
 //              and, per plan, one roadmap_distances() call per distinct starting point gives
 //              its distances to every viewpoint (memoised for the plan's maxATSP solves;
 //              unreachable: +inf, the arc's f is 0). Until the first map, and from a point

@@ -32,14 +32,14 @@ boxes:
 )");
 }
 
-Result<FreeSpace, std::string> build(const sim::SceneSpec& scene, const BodyModel& body,
+Result<FreeSpace, std::string> build(const sim::SceneSpec& scene, const FreeSpaceBody& body,
                                      const std::vector<Vec3>& starts) {
   const sim::SceneSolids solids(scene, {});
   return FreeSpace::build(solids, scene, body, starts);
 }
 
 TEST(FreeSpace, ARoomBehindAClosedDoorIsNotReachable) {
-  auto fs = build(two_rooms(0), default_body(sim::RobotKind::kGround), {{-3, 0, 0}});
+  auto fs = build(two_rooms(0), default_body(robot::RobotKind::kGround), {{-3, 0, 0}});
   ASSERT_TRUE(fs) << fs.error();
   EXPECT_TRUE(fs->start_free(0));
   EXPECT_FALSE(fs->connected());
@@ -51,12 +51,12 @@ TEST(FreeSpace, ARoomBehindAClosedDoorIsNotReachable) {
 }
 
 TEST(FreeSpace, AnOpenDoorConnectsTheRoomsAndANarrowOneDoesNot) {
-  auto open = build(two_rooms(1.0), default_body(sim::RobotKind::kGround), {{-3, 0, 0}});
+  auto open = build(two_rooms(1.0), default_body(robot::RobotKind::kGround), {{-3, 0, 0}});
   ASSERT_TRUE(open) << open.error();
   EXPECT_TRUE(open->connected());
   EXPECT_TRUE(open->reachable({3, 0, 0}));
   // 0.4 m: narrower than the 0.5 m the body needs
-  auto narrow = build(two_rooms(0.4), default_body(sim::RobotKind::kGround), {{-3, 0, 0}});
+  auto narrow = build(two_rooms(0.4), default_body(robot::RobotKind::kGround), {{-3, 0, 0}});
   ASSERT_TRUE(narrow) << narrow.error();
   EXPECT_FALSE(narrow->reachable({3, 0, 0}));
 }
@@ -69,13 +69,13 @@ bounds_max_m: [5, 5, 2]
 boxes:
   - {name: box, center_m: [0, 0, 0.5], size_m: [2, 2, 1]}
 )");
-  auto fs = build(scene, default_body(sim::RobotKind::kGround), {{0, 0, 0}, {-3, -3, 0}});
+  auto fs = build(scene, default_body(robot::RobotKind::kGround), {{0, 0, 0}, {-3, -3, 0}});
   ASSERT_TRUE(fs) << fs.error();
   EXPECT_FALSE(fs->start_free(0));
   EXPECT_TRUE(fs->start_free(1));
   EXPECT_FALSE(fs->reachable({0, 0, 0}));
   EXPECT_TRUE(fs->connected());  // the second start reaches every free cell
-  auto alone = build(scene, default_body(sim::RobotKind::kGround), {{0, 0, 0}});
+  auto alone = build(scene, default_body(robot::RobotKind::kGround), {{0, 0, 0}});
   ASSERT_TRUE(alone) << alone.error();
   EXPECT_EQ(alone->reachable_cells(), 0u);
 }
@@ -83,7 +83,7 @@ boxes:
 TEST(FreeSpace, AMultirotorFliesOverAWallThatStopsAGroundRobot) {
   sim::SceneSpec scene = two_rooms(0);
   scene.max_m.z = 6;
-  BodyModel uav = default_body(sim::RobotKind::kMultirotor);
+  FreeSpaceBody uav = default_body(robot::RobotKind::kMultirotor);
   uav.max_altitude_m = 5;
   // starts on the ground: moved up into the band
   auto fs = build(scene, uav, {{-3, 0, 0}});
@@ -100,7 +100,7 @@ TEST(FreeSpace, AMultirotorFliesOverAWallThatStopsAGroundRobot) {
 }
 
 TEST(FreeSpace, ReachablePositionsLieInReachableCellsOfEveryRegion) {
-  auto fs = build(two_rooms(1.0), default_body(sim::RobotKind::kGround), {{-3, 0, 0}});
+  auto fs = build(two_rooms(1.0), default_body(robot::RobotKind::kGround), {{-3, 0, 0}});
   ASSERT_TRUE(fs) << fs.error();
   const auto positions = fs->reachable_positions(1.0);
   for (const Vec3& p : positions) EXPECT_TRUE(fs->reachable(p));
@@ -116,16 +116,16 @@ TEST(FreeSpace, ReachablePositionsLieInReachableCellsOfEveryRegion) {
 
 TEST(FreeSpace, RefusesBadBodiesAndNoStarts) {
   const sim::SceneSpec scene = two_rooms(0);
-  BodyModel body = default_body(sim::RobotKind::kGround);
+  FreeSpaceBody body = default_body(robot::RobotKind::kGround);
   body.radius_m = 0;
   EXPECT_FALSE(build(scene, body, {{-3, 0, 0}}));
-  BodyModel uav = default_body(sim::RobotKind::kMultirotor);
+  FreeSpaceBody uav = default_body(robot::RobotKind::kMultirotor);
   uav.min_altitude_m = 5;
   uav.max_altitude_m = 2;
   auto e = build(scene, uav, {{-3, 0, 3}});
   ASSERT_FALSE(e);
   EXPECT_NE(e.error().find("altitude band"), std::string::npos) << e.error();
-  EXPECT_FALSE(build(scene, default_body(sim::RobotKind::kGround), {}));
+  EXPECT_FALSE(build(scene, default_body(robot::RobotKind::kGround), {}));
 }
 
 }  // namespace

@@ -24,7 +24,7 @@ struct Case {
   std::vector<Vec3> poses;
 };
 
-Case run(const sim::SceneSpec& scene, const BodyModel& body, const std::vector<Vec3>& starts,
+Case run(const sim::SceneSpec& scene, const FreeSpaceBody& body, const std::vector<Vec3>& starts,
          const ObserverModel& observer = {}, double density = 100) {
   Case c;
   sim::SamplingOptions sampling;
@@ -38,7 +38,7 @@ Case run(const sim::SceneSpec& scene, const BodyModel& body, const std::vector<V
   auto result = reachable_truth(c.truth.points, c.truth.normals, solids, *fs, observer);
   EXPECT_TRUE(result) << result.error();
   c.result = *result;
-  c.poses = fs->reachable_positions(body.kind == sim::RobotKind::kGround ? 0.5 : 1.0);
+  c.poses = fs->reachable_positions(body.kind == robot::RobotKind::kGround ? 0.5 : 1.0);
   return c;
 }
 
@@ -68,7 +68,7 @@ boxes:
 }
 
 TEST(ReachableTruth, AGroundRobotSeesATallBoxsNearFacesButNotItsTopNorItsUpperPart) {
-  const Case c = run(tall_box_yard(), default_body(sim::RobotKind::kGround), {{-2, 0, 0}});
+  const Case c = run(tall_box_yard(), default_body(robot::RobotKind::kGround), {{-2, 0, 0}});
   const auto [top, top_n] =
       fraction(c, [](const Vec3& p, const Vec3& n) { return n.z > 0.9 && p.z > 4.9; });
   EXPECT_GT(top_n, 300u);
@@ -97,7 +97,7 @@ bounds_min_m: [-4, -4, 0]
 bounds_max_m: [4, 4, 5]
 wall_height_m: 5
 )");
-  const Case c = run(scene, default_body(sim::RobotKind::kGround), {{0, 0, 0}});
+  const Case c = run(scene, default_body(robot::RobotKind::kGround), {{0, 0, 0}});
   // 8 m across: the far side of the hall is 7.4 m away at most, so the walls are seen up to
   // 0.35 + 5 tan 30° = 3.24 m, from 5 m away
   const auto [low, low_n] =
@@ -120,7 +120,7 @@ ceiling: true
 boxes:
   - {name: door, center_m: [0, 0, 1], size_m: [0.2, 5, 2]}
 )");
-  const Case c = run(scene, default_body(sim::RobotKind::kGround), {{-3, 0, 0}});
+  const Case c = run(scene, default_body(robot::RobotKind::kGround), {{-3, 0, 0}});
   const auto [behind, behind_n] = fraction(c, [](const Vec3& p, const Vec3&) { return p.x > 0.1; });
   EXPECT_GT(behind_n, 3000u);
   EXPECT_EQ(behind, 0.0);
@@ -138,7 +138,7 @@ bounds_max_m: [8, 8, 8]
 boxes:
   - {name: block, center_m: [0, 0, 1.5], size_m: [2, 2, 3]}
 )");
-  BodyModel uav = default_body(sim::RobotKind::kMultirotor);
+  FreeSpaceBody uav = default_body(robot::RobotKind::kMultirotor);
   uav.max_altitude_m = 7;
   ObserverModel camera;
   camera.camera_up_m = 0;
@@ -148,7 +148,7 @@ boxes:
   EXPECT_GT(top_n, 300u);
   EXPECT_GT(top, 0.97);
   // the same box seen by a ground robot: not its top
-  const Case g = run(scene, default_body(sim::RobotKind::kGround), {{-5, 0, 0}});
+  const Case g = run(scene, default_body(robot::RobotKind::kGround), {{-5, 0, 0}});
   EXPECT_EQ(fraction(g, [](const Vec3& p, const Vec3& n) { return n.z > 0.9 && p.z > 2.9; }).first,
             0.0);
 }
@@ -169,7 +169,7 @@ cylinders:
   - {name: d, center_m: [-2, -2, 1.5], radius_m: 0.4, height_m: 3}
 )");
   const ObserverModel o;
-  const Case c = run(scene, default_body(sim::RobotKind::kGround), {{-4, 0, 0}}, o, 30);
+  const Case c = run(scene, default_body(robot::RobotKind::kGround), {{-4, 0, 0}}, o, 30);
   const sim::SceneSolids solids(scene, {});
   const double half_fov = 0.5 * o.fov_v_deg * std::numbers::pi / 180;
   size_t reference = 0, missed = 0;
@@ -215,7 +215,7 @@ bounds_max_m: [5, 5, 3]
   const io::TriangleMesh sheet{.vertices = {{2, -2, 0}, {2, 2, 0}, {2, 0, 2}},
                                .triangles = {{0, 1, 2}}};
   const sim::SceneSolids solids(scene, {sheet});
-  auto fs = FreeSpace::build(solids, scene, default_body(sim::RobotKind::kGround), {{-2, 0, 0}});
+  auto fs = FreeSpace::build(solids, scene, default_body(robot::RobotKind::kGround), {{-2, 0, 0}});
   ASSERT_TRUE(fs) << fs.error();
   const std::vector<std::array<float, 3>> points = {{2, 0, 0.5}, {2, 1, 0.3}};
   const std::vector<std::array<float, 3>> away = {{1, 0, 0}, {1, 0, 0}};  // towards +x
@@ -233,8 +233,8 @@ bounds_max_m: [5, 5, 3]
   closed.boxes.push_back({.name = "left", .center_m = {2, -3.5, 1}, .size_m = {0.2, 3, 2}});
   closed.boxes.push_back({.name = "right", .center_m = {2, 3.5, 1}, .size_m = {0.2, 3, 2}});
   const sim::SceneSolids closed_solids(closed, {sheet});
-  auto closed_fs =
-      FreeSpace::build(closed_solids, closed, default_body(sim::RobotKind::kGround), {{-2, 0, 0}});
+  auto closed_fs = FreeSpace::build(closed_solids, closed, default_body(robot::RobotKind::kGround),
+                                    {{-2, 0, 0}});
   ASSERT_TRUE(closed_fs) << closed_fs.error();
   EXPECT_EQ(reachable_truth(points, away, closed_solids, *closed_fs, {}, trusted)->observable_count,
             0u);

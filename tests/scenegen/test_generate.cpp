@@ -39,7 +39,7 @@ TEST(Generate, FamiliesAreNamedAndAnUnknownOneIsRefused) {
   EXPECT_EQ(parse_family("indoor"), Family::kIndoor);
   EXPECT_EQ(parse_family("outdoor"), Family::kOutdoor);
   EXPECT_FALSE(parse_family("attic"));
-  EXPECT_EQ(robot_kind(Family::kOutdoor), sim::RobotKind::kMultirotor);
+  EXPECT_EQ(robot_kind(Family::kOutdoor), robot::RobotKind::kMultirotor);
 }
 
 class GenerateSeeds : public ::testing::TestWithParam<Family> {};

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "components/low_level/obstacle_geometry.hpp"
-#include "components/tsdf/tsdf_map.hpp"
+#include "core/tsdf/tsdf_map.hpp"
 
 namespace scancrew::low_level::test {
 

@@ -21,9 +21,9 @@ Eigen::Isometry3d at(double x, double y, double z, double yaw = 0) {
   return T_world_body;
 }
 
-RobotBody ellipse() {
-  RobotBody b;
-  b.radii_m = V3(0.55, 0.25, 0.25);
+robot::BodyModel ellipse() {
+  robot::BodyModel b;
+  b.safety_radii_m = V3(0.55, 0.25, 0.25);
   return b;
 }
 

@@ -5,7 +5,7 @@
 
 #include "components/low_level/map_queries.hpp"
 #include "components/low_level/obstacle_check.hpp"
-#include "components/tsdf/tsdf_map.hpp"
+#include "core/tsdf/tsdf_map.hpp"
 
 namespace scancrew::low_level {
 namespace {

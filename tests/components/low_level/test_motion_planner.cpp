@@ -40,7 +40,7 @@ PlannerConfig ground_config() {
 }
 
 // The thesis's body, without the margin: what must not touch the true obstacles.
-RobotBody true_body(PlannerConfig c) {
+robot::BodyModel true_body(PlannerConfig c) {
   c.body_margin_m = 0;
   return body_of(c);
 }
@@ -335,12 +335,12 @@ TEST(PlannerConfig, ReadsTheKeysAndReportsBadValues) {
   p.finish();
   ASSERT_TRUE(p.ok()) << p.errors().front();
   EXPECT_EQ(c.robot_kind, RobotKind::kMultirotor);
-  EXPECT_DOUBLE_EQ(c.multirotor_body_radius_m, 1.5);
-  EXPECT_DOUBLE_EQ(c.ground_body_radii_m.y(), 0.3);
+  EXPECT_DOUBLE_EQ(c.multirotor_body.safety_radii_m.z(), 1.5);
+  EXPECT_DOUBLE_EQ(c.ground_body.safety_radii_m.y(), 0.3);
   EXPECT_FALSE(c.unknown_is_occupied);
   EXPECT_DOUBLE_EQ(c.planner_time_limit_s, 0.25);
   EXPECT_EQ(c.roadmap_max_vertices, 300);
-  EXPECT_DOUBLE_EQ(body_of(c).radii_m.x(), 1.5 + c.body_margin_m);
+  EXPECT_DOUBLE_EQ(body_of(c).safety_radii_m.x(), 1.5 + c.body_margin_m);
 
   ParamReader bad = ParamReader::from_yaml_string(
       "robot_type: boat\nplanner_time_limit_s: -1\nground_body_radii_m: [0.5]\n", "test");

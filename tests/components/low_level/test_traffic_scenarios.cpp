@@ -31,9 +31,9 @@
 #include "components/low_level/obstacle_geometry.hpp"
 #include "components/team_simulator/team_simulator.hpp"
 #include "components/tracker/path_tracker.hpp"
-#include "components/tsdf/map_update.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
+#include "interfaces/map_update.hpp"
 #include "sim/scene.hpp"
 
 namespace scancrew::low_level {
@@ -167,7 +167,7 @@ class RobotLog final : public Component {
 
  private:
   Result<void, std::string> on_configure() override {
-    create_subscription<tsdf::MapUpdate>("map", {.depth = 1}, [this](Sample<tsdf::MapUpdate>&& s) {
+    create_subscription<msg::MapUpdate>("map", {.depth = 1}, [this](Sample<msg::MapUpdate>&& s) {
       if (s->map == nullptr) return;
       map_ = s->map;
       map_stamp_ns_ = s->header.stamp_ns;

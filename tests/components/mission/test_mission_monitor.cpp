@@ -10,9 +10,9 @@
 #include <cmath>
 
 #include "components/mission/mission_monitor.hpp"
-#include "components/tsdf/map_update.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
+#include "interfaces/map_update.hpp"
 
 namespace scancrew::components {
 namespace {
@@ -41,7 +41,7 @@ class Feeder final : public Component {
       poses_.push_back(create_publisher<msg::Odometry>("/" + m.ns + "/pose_gt"));
       states_.push_back(create_publisher<msg::RobotState>("/" + m.ns + "/robot_state"));
       ises_.push_back(create_publisher<msg::IseSet>("/" + m.ns + "/ises"));
-      maps_.push_back(create_publisher<tsdf::MapUpdate>("/" + m.ns + "/map"));
+      maps_.push_back(create_publisher<msg::MapUpdate>("/" + m.ns + "/map"));
       ids_.push_back(m.id);
     }
     create_timer(std::chrono::milliseconds(100), [this] { tick(); });
@@ -86,7 +86,7 @@ class Feeder final : public Component {
   std::vector<Publisher<msg::Odometry>> poses_;
   std::vector<Publisher<msg::RobotState>> states_;
   std::vector<Publisher<msg::IseSet>> ises_;
-  std::vector<Publisher<tsdf::MapUpdate>> maps_;
+  std::vector<Publisher<msg::MapUpdate>> maps_;
   std::vector<uint32_t> ids_;
   double last_ = -1;
 };

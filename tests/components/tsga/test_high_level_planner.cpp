@@ -15,10 +15,10 @@
 #include <random>
 #include <set>
 
-#include "components/tsdf/map_update.hpp"
 #include "components/tsga/high_level_planner.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
+#include "interfaces/map_update.hpp"
 #include "tests/components/low_level/box_world.hpp"
 
 namespace scancrew::tsga {
@@ -48,7 +48,7 @@ class Feeder final : public Component {
   Result<void, std::string> on_configure() override {
     clusters_ = create_publisher<msg::ViewpointClusters>(g_script.clusters_topic);
     ises_ = create_publisher<msg::IseSet>(g_script.ises_topic);
-    map_ = create_publisher<tsdf::MapUpdate>(g_script.map_topic);
+    map_ = create_publisher<msg::MapUpdate>(g_script.map_topic);
     for (const TeamMember& m : team())
       states_.push_back(create_publisher<msg::RobotState>("/" + m.ns + "/robot_state"));
     create_timer(std::chrono::milliseconds(50), [this] { tick(); });
@@ -89,7 +89,7 @@ class Feeder final : public Component {
   }
   Publisher<msg::ViewpointClusters> clusters_;
   Publisher<msg::IseSet> ises_;
-  Publisher<tsdf::MapUpdate> map_;
+  Publisher<msg::MapUpdate> map_;
   std::vector<Publisher<msg::RobotState>> states_;
   double last_ = -1;
 };

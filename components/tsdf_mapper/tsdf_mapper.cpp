@@ -1,0 +1,531 @@
+#include "components/tsdf_mapper/tsdf_mapper.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/tsdf/mesher.hpp"
+#include "core/tsdf/octomap_export.hpp"
+#include "core/tsdf/patch_codec.hpp"
+#include "core/tsdf/patch_fusion.hpp"
+#include "core/tsdf/ply_mesh.hpp"
+#include "executors/log.hpp"
+#include "executors/registry.hpp"
+#include "interfaces/eigen_conversions.hpp"
+
+namespace scancrew::tsdf_mapper {
+
+using tsdf::Block;
+using tsdf::BlockTable;
+using tsdf::DepthFrame;
+using tsdf::fuse_voxel;
+using tsdf::kBlockVoxels;
+using tsdf::make_patch_id;
+using tsdf::Mesh;
+using tsdf::Mesher;
+using tsdf::MesherConfig;
+using tsdf::PlyColour;
+using tsdf::Voxel;
+using tsdf::VoxelState;
+using tsdf::Weld;
+using tsdf::write_ply;
+
+namespace {
+
+bool unit_quaternion(const msg::Quat& q) {
+  const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  return std::isfinite(n) && std::abs(n - 1.0) < 1e-6;
+}
+
+}  // namespace
+
+TsdfMapper::Config TsdfMapper::read_config(ParamReader& p) {
+  Config c;
+  p.optional("voxel_m", c.tsdf.voxel_m, {0.005, 10});
+  c.tsdf.truncation_m = 3 * c.tsdf.voxel_m;
+  p.optional("truncation_m", c.tsdf.truncation_m, {0.005, 1000});
+  p.optional("w_th", c.tsdf.w_th, {1e-9, 1e9});
+  p.optional("max_weight", c.tsdf.max_weight, {1e-9, 1e9});
+  p.optional("min_range_m", c.tsdf.min_range_m, {0, 1000});
+  p.optional("max_range_m", c.tsdf.max_range_m, {0.01, 1000});
+  p.optional("clear_beyond_range", c.tsdf.clear_beyond_range);
+  p.choice("weight", c.tsdf.weight, {"inverse_square", "constant"});
+  p.optional("tile_px", c.tsdf.tile_px, {1, 64});
+  if (auto problem = c.tsdf.validate(); !problem.empty()) p.report("voxel_m", problem);
+  p.choice("mode", c.mode, {"single", "centralized", "distributed"});
+  p.optional("patch_frames", c.patch_frames, {1, 100000});
+  p.optional("patch_distance_m", c.patch_distance_m, {0, 1e6});
+  p.optional("snapshot_every", c.snapshot_every, {1, 100000});
+  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
+  p.optional("request_delay_s", c.request_delay_s, {0, 3600});
+  p.optional("request_retry_s", c.request_retry_s, {0.01, 3600});
+  p.optional("compression_level", c.compression_level, {1, 19});
+  p.optional("depth_queue_depth", c.depth_queue_depth, {1, 1000});
+  p.optional("depth_topic", c.depth_topic);
+  if (c.depth_topic.empty() || c.depth_topic.front() == '/')
+    p.report("depth_topic", "'" + c.depth_topic + "' must be a relative topic name (e.g. depth)");
+  p.optional("mesh_path", c.mesh_path);
+  p.choice("mesh_colour", c.mesh_colour, {"owner", "none"});
+  p.optional("mesh_min_weight", c.mesh_min_weight, {0, 1e6});
+  p.optional("octomap_path", c.octomap_path);
+  return c;
+}
+
+TsdfMapper::TsdfMapper(ComponentContext context, Config config)
+    : Component(std::move(context)),
+      config_(std::move(config)),
+      integrator_(config_.tsdf),
+      global_(config_.tsdf),
+      current_(config_.tsdf) {}
+
+TsdfMapper::~TsdfMapper() = default;
+
+Result<void, std::string> TsdfMapper::on_configure() {
+  map_ = create_publisher<msg::MapUpdate>("map", {.pool_size = 4});
+  const auto on_depth_sample = [this](Sample<msg::DepthImage>&& s) { on_depth(*s); };
+  if (config_.mode == "centralized") {
+    if (team().empty())
+      return make_unexpected(std::string("mode centralized needs the robots: section"));
+    for (const TeamMember& m : team())
+      create_subscription<msg::DepthImage>("/" + m.ns + "/" + config_.depth_topic,
+                                           {.depth = config_.depth_queue_depth}, on_depth_sample);
+    return {};
+  }
+  create_subscription<msg::DepthImage>(config_.depth_topic, {.depth = config_.depth_queue_depth},
+                                       on_depth_sample);
+  if (config_.mode != "distributed") return {};
+
+  patch_ = create_publisher<msg::TsdfPatch>("patch", {.pool_size = 4});
+  reply_ = create_publisher<msg::TsdfPatch>("patch_reply", {.pool_size = 16});
+  list_ = create_publisher<msg::PatchList>("patch_list", {.pool_size = 2});
+  request_ = create_publisher<msg::PatchRequest>("patch_request", {.pool_size = 2});
+  const char* pose_topic = config_.pose_source == "vio" ? "odom" : "pose_gt";
+  for (const TeamMember& m : team()) {
+    if (m.id == robot_id()) continue;
+    teammates_.push_back({.id = m.id, .ns = m.ns});
+  }
+  for (size_t i = 0; i < teammates_.size(); ++i) {
+    const std::string ns = "/" + teammates_[i].ns + "/";
+    const auto patch_cb = [this](Sample<msg::TsdfPatch>&& s) { on_patch(*s); };
+    create_subscription<msg::TsdfPatch>(ns + "patch", {.depth = 16}, patch_cb);
+    create_subscription<msg::TsdfPatch>(ns + "patch_reply", {.depth = 16}, patch_cb);
+    create_subscription<msg::PatchList>(
+        ns + "patch_list", {.depth = 4},
+        [this, i](Sample<msg::PatchList>&& s) { on_patch_list(teammates_[i].id, *s); });
+    create_subscription<msg::PatchRequest>(
+        ns + "patch_request", {.depth = 8},
+        [this](Sample<msg::PatchRequest>&& s) { on_request(*s); });
+    create_subscription<msg::Odometry>(
+        ns + pose_topic, {.depth = 2}, [this, i](Sample<msg::Odometry>&& s) {
+          if (s->tracking_quality <= 0) return;
+          teammates_[i].position = msg::to_eigen(s->T_world_body.position);
+          teammates_[i].has_position = true;
+        });
+    // the latest state is all that counts (lost or not); depth 1 holds one slot of the
+    // low-level planner's small pool at most
+    create_subscription<msg::RobotState>(
+        ns + "robot_state", {.depth = 1},
+        [this, i](Sample<msg::RobotState>&& s) { on_teammate_state(i, *s); });
+  }
+  const auto period = std::chrono::nanoseconds(
+      std::llround(std::min(config_.request_delay_s, config_.request_retry_s) * 0.5e9 + 1e7));
+  create_timer(period, [this] {
+    check_missing();
+    send_replies();
+  });
+  return {};
+}
+
+void TsdfMapper::on_deactivate() {
+  const TsdfMapperStats& s = stats_;
+  SCANCREW_LOG_INFO("%s: %llu depth images integrated (%.2f ms mean, %.2f max), %llu refused",
+                    qualified_name().c_str(), static_cast<unsigned long long>(s.integrated),
+                    s.integrated > 0 ? s.integrate_ms_sum / static_cast<double>(s.integrated) : 0.0,
+                    s.integrate_ms_max, static_cast<unsigned long long>(s.rejected_frames));
+  if (config_.mode == "distributed")
+    SCANCREW_LOG_INFO(
+        "%s: patches: %llu made (%.1f kB each on the wire, 1/%.1f of raw float blocks), %llu "
+        "held back (nothing new yet), %llu received, %llu refused, %llu duplicates ignored, %llu "
+        "requested, %llu replies sent",
+        qualified_name().c_str(), static_cast<unsigned long long>(s.patches_made),
+        s.patches_made > 0
+            ? static_cast<double>(s.patch_wire_bytes) / 1e3 / static_cast<double>(s.patches_made)
+            : 0.0,
+        s.patch_wire_bytes > 0
+            ? static_cast<double>(s.patch_raw_bytes) / static_cast<double>(s.patch_wire_bytes)
+            : 0.0,
+        static_cast<unsigned long long>(s.patches_held_back),
+        static_cast<unsigned long long>(s.patches_received),
+        static_cast<unsigned long long>(s.patches_rejected),
+        static_cast<unsigned long long>(s.duplicates),
+        static_cast<unsigned long long>(s.requests_sent),
+        static_cast<unsigned long long>(s.replies_sent));
+  write_outputs();
+}
+
+void TsdfMapper::write_outputs() {
+  if (config_.mesh_path.empty() && config_.octomap_path.empty()) return;
+  const auto snap = snapshot();
+  if (!config_.mesh_path.empty()) {
+    Mesher mesher(MesherConfig{.min_weight = config_.mesh_min_weight});
+    mesher.full(*snap);
+    const Mesh mesh = mesher.assemble(Weld::kAcrossBlocks);
+    const auto written =
+        write_ply(mesh, config_.mesh_path,
+                  config_.mesh_colour == "owner" ? PlyColour::kByOwner : PlyColour::kNone);
+    if (written)
+      SCANCREW_LOG_INFO("%s: wrote %s (%zu triangles)", qualified_name().c_str(),
+                        config_.mesh_path.c_str(), mesh.triangles.size());
+    else
+      report_failure(written.error());
+  }
+  if (!config_.octomap_path.empty()) {
+    const auto written = write_octomap(*snap, config_.octomap_path);
+    if (written)
+      SCANCREW_LOG_INFO("%s: wrote %s", qualified_name().c_str(), config_.octomap_path.c_str());
+    else
+      report_failure(written.error());
+  }
+}
+
+void TsdfMapper::on_depth(const msg::DepthImage& depth) {
+  ++stats_.frames;
+  DepthFrame frame;
+  frame.depth_m = depth.depth_m.data();
+  frame.size = depth.depth_m.size();
+  frame.width = depth.intrinsics.width;
+  frame.height = depth.intrinsics.height;
+  frame.fx = depth.intrinsics.fx;
+  frame.fy = depth.intrinsics.fy;
+  frame.cx = depth.intrinsics.cx;
+  frame.cy = depth.intrinsics.cy;
+  auto refuse = [&](const std::string& problem) {
+    ++stats_.rejected_frames;
+    if (!logged_[0]) {
+      logged_[0] = true;
+      SCANCREW_LOG_WARN("%s: depth image at t = %.3f s skipped: %s (further ones are counted)",
+                        qualified_name().c_str(), static_cast<double>(depth.header.stamp_ns) * 1e-9,
+                        problem.c_str());
+    }
+  };
+  if (!unit_quaternion(depth.T_world_cam.orientation)) {
+    refuse("camera pose quaternion is not unit");
+    return;
+  }
+  frame.T_world_cam = msg::to_eigen(depth.T_world_cam);
+  const bool distributed = config_.mode == "distributed";
+
+  // the integrator checks the frame (check_frame) as it reads it, before writing anything
+  const auto t0 = std::chrono::steady_clock::now();
+  current_.advance_sequence_to(global_.sequence());
+  auto integrated = integrator_.integrate(distributed ? current_ : global_, frame);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (!integrated) {
+    refuse(integrated.error());
+    return;
+  }
+  const Eigen::Vector3d position = frame.T_world_cam.translation();
+  own_position_ = position;
+  if (distributed && !current_open_) {
+    current_anchor_ = frame.T_world_cam;
+    current_travel_m_ = 0;
+    current_open_ = true;
+  } else if (have_last_position_) {
+    current_travel_m_ += (position - last_position_).norm();
+  }
+  last_position_ = position;
+  have_last_position_ = true;
+  ++stats_.integrated;
+  if (!std::binary_search(robots_integrated_.begin(), robots_integrated_.end(),
+                          depth.header.robot_id))
+    robots_integrated_.insert(std::upper_bound(robots_integrated_.begin(), robots_integrated_.end(),
+                                               depth.header.robot_id),
+                              depth.header.robot_id);
+  stats_.integrate_ms_sum += ms;
+  stats_.integrate_ms_max = std::max(stats_.integrate_ms_max, ms);
+  last_stamp_ns_ = depth.header.stamp_ns;
+  if (distributed) {
+    ++current_frames_;
+    if (current_frames_ >= config_.patch_frames ||
+        (config_.patch_distance_m > 0 && current_travel_m_ >= config_.patch_distance_m))
+      complete_patch();
+  }
+  if (++frames_since_snapshot_ >= config_.snapshot_every) {
+    frames_since_snapshot_ = 0;
+    publish_snapshot(depth.header.stamp_ns);
+  }
+}
+
+// Whether the current patch tells the team something its estimate lacks. For some voxel it
+// observes, fusing it into the global estimate (every patch of the team that this robot
+// holds) would
+//   - change its state (thesis eq. 1.1): unknown -> known, or occupied <-> empty with the
+//     fused distance more than half a voxel from the surface (a surface that moved by more
+//     than the map can show; depth noise at a resting surface flips states back and forth
+//     within it), or
+//   - at least double the evidence of a known voxel (the patch's weight >= the estimate's):
+//     a closer or new look, which sharpens the distance.
+// A robot at rest, or retracing mapped space, makes patches that do neither: they are held
+// back, their images staying in the current patch (and in this robot's snapshots), which is
+// checked again after the next patch_frames images and goes out once it adds something —
+// a scene that changed, a faint view that became known, enough new looks to double the
+// estimate's evidence. So no evidence is lost, and at rest patches go out at doubling
+// intervals until the view saturates, then stop; held, every robot would keep each for the
+// rest of the mission (docs/mapping.md, "Patches").
+bool TsdfMapper::adds_information() const {
+  const auto w_max = static_cast<float>(config_.tsdf.max_weight);
+  const auto w_th = static_cast<float>(config_.tsdf.w_th);
+  const auto half_voxel = static_cast<float>(config_.tsdf.voxel_m / 2);
+  const Block empty{};
+  for (const auto& [index, block] : current_.blocks()) {
+    const Block* g = global_.find(index);
+    if (g == nullptr) g = &empty;
+    for (size_t i = 0; i < size_t{kBlockVoxels}; ++i) {
+      const Voxel& s = block->voxels[i];
+      if (!(s.weight > 0)) continue;
+      const Voxel& d = g->voxels[i];
+      const VoxelState before = state_of(d, w_th);
+      if (before != VoxelState::kUnknown && s.weight >= d.weight && d.weight < w_max) return true;
+      Voxel fused = d;
+      fuse_voxel(fused, s, w_max);
+      const VoxelState after = state_of(fused, w_th);
+      if (after == before) continue;
+      if (before == VoxelState::kUnknown || std::abs(fused.distance_m) > half_voxel) return true;
+    }
+  }
+  return false;
+}
+
+void TsdfMapper::complete_patch() {
+  if (!adds_information()) {
+    ++stats_.patches_held_back;
+    current_frames_ = 0;
+    current_travel_m_ = 0;
+    return;
+  }
+  // the index: the stamp of the patch's last frame in ms (modulo 2^32), kept increasing. A
+  // robot whose process restarted numbers on from where its clock is, after every index its
+  // old process used: the team never takes a new patch for an old one (docs/mapping.md)
+  auto index = static_cast<uint32_t>(last_stamp_ns_ / 1'000'000);
+  if (made_any_ && static_cast<int32_t>(index - last_index_) <= 0) index = last_index_ + 1;
+  made_any_ = true;
+  last_index_ = index;
+  Held held;
+  held.own = true;
+  msg::TsdfPatch& p = held.patch;
+  p.patch_id = make_patch_id(robot_id(), index);
+  p.robot_id = robot_id();
+  p.index = index;
+  p.T_world_patch = msg::to_msg(current_anchor_);
+  auto encoded = encode_patch(current_.blocks(), config_.tsdf, p, config_.compression_level);
+  if (!encoded) {
+    SCANCREW_LOG_ERROR("%s: patch %u not encoded: %s", qualified_name().c_str(), index,
+                       encoded.error().c_str());
+  } else {
+    stats_.patch_wire_bytes += encoded->wire_bytes;
+    stats_.patch_raw_bytes += encoded->raw_float_bytes;
+    ++stats_.patches_made;
+    p.header.stamp_ns = last_stamp_ns_;
+    // fused as the teammates will fuse it (quantised): every robot holding the same
+    // patches has the same global estimate, bit for bit
+    global_.advance_sequence_to(current_.sequence());
+    if (auto own = decode_patch(p, config_.tsdf)) {
+      fuse_blocks(global_, *own);
+    } else {
+      SCANCREW_LOG_ERROR("%s: own patch %u does not decode (%s): fused unquantised",
+                         qualified_name().c_str(), index, own.error().c_str());
+      fuse_map(global_, current_.blocks(), robot_id());
+    }
+    if (auto loan = patch_.loan()) {
+      **loan = p;
+      (void)patch_.publish(std::move(*loan));
+    }
+    held_.emplace(p.patch_id, std::move(held));
+    publish_list();
+  }
+  current_.clear();
+  current_frames_ = 0;
+  current_open_ = false;
+}
+
+void TsdfMapper::on_patch(const msg::TsdfPatch& patch) {
+  // a patch of this robot's id that it does not hold is its old process's (it restarted):
+  // taken like a teammate's
+  if (held_.contains(patch.patch_id)) {
+    ++stats_.duplicates;
+    return;
+  }
+  auto decoded = decode_patch(patch, config_.tsdf);
+  if (!decoded) {
+    ++stats_.patches_rejected;
+    if (!logged_[1]) {
+      logged_[1] = true;
+      SCANCREW_LOG_WARN("%s: patch %u.%u from robot %u refused: %s (further ones are counted)",
+                        qualified_name().c_str(), patch.robot_id, patch.index,
+                        patch.header.robot_id, decoded.error().c_str());
+    }
+    return;
+  }
+  global_.advance_sequence_to(current_.sequence());
+  fuse_blocks(global_, *decoded);
+  ++stats_.patches_received;
+  held_.emplace(patch.patch_id, Held{patch, false});
+  missing_since_ns_.erase(patch.patch_id);
+  last_request_ns_.erase(patch.patch_id);
+  publish_list();
+  publish_snapshot(last_stamp_ns_);
+}
+
+void TsdfMapper::on_patch_list(uint32_t from, const msg::PatchList& list) {
+  // kept sorted in one block (a list arrives about once a second per teammate and holds
+  // every patch of the team: no node per id)
+  std::vector<uint64_t>* holds = nullptr;
+  for (Teammate& t : teammates_)
+    if (t.id == from) holds = &t.holds;
+  if (holds != nullptr) {
+    holds->assign(list.patch_ids.begin(), list.patch_ids.end());
+    if (!std::is_sorted(holds->begin(), holds->end())) std::sort(holds->begin(), holds->end());
+    // what the lister holds was answered: its asks are forgotten
+    std::erase_if(asks_, [&](const auto& kv) {
+      return kv.first.first == from &&
+             std::binary_search(holds->begin(), holds->end(), kv.first.second);
+    });
+  }
+  const int64_t now = clock().now_ns();
+  // this robot's own ids among them too: its old process's patches, after a restart
+  for (uint64_t id : list.patch_ids)
+    if (!held_.contains(id)) missing_since_ns_.try_emplace(id, now);
+}
+
+void TsdfMapper::check_missing() {
+  if (missing_since_ns_.empty()) return;
+  const int64_t now = clock().now_ns();
+  const auto delay = static_cast<int64_t>(config_.request_delay_s * 1e9);
+  const auto retry = static_cast<int64_t>(config_.request_retry_s * 1e9);
+  std::vector<uint64_t> wanted;
+  for (const auto& [id, since] : missing_since_ns_) {
+    if (now - since < delay) continue;
+    const auto last = last_request_ns_.find(id);
+    if (last != last_request_ns_.end() && now - last->second < retry) continue;
+    wanted.push_back(id);
+    last_request_ns_[id] = now;
+  }
+  if (wanted.empty()) return;
+  auto loan = request_.loan();
+  if (!loan) return;
+  (*loan)->header.stamp_ns = now;
+  (*loan)->from_robot = robot_id();
+  (*loan)->patch_ids = std::move(wanted);
+  stats_.requests_sent += (*loan)->patch_ids.size();
+  (void)request_.publish(std::move(*loan));
+}
+
+Eigen::Vector3d TsdfMapper::position_of(uint32_t robot) const {
+  if (robot == robot_id()) return own_position_;
+  for (const Teammate& t : teammates_)
+    if (t.id == robot) return t.position;
+  return Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+}
+
+void TsdfMapper::on_request(const msg::PatchRequest& request) {
+  const Eigen::Vector3d asker = position_of(request.from_robot);
+  for (uint64_t id : request.patch_ids) {
+    if (!held_.contains(id)) continue;
+    // of the robots known to hold it (the asker aside), the nearest to the asker answers
+    // (ties to the lower robot id), but for the patch's author while another holds it: its
+    // broadcast did not reach the asker, its reply may not either (the asker out of its
+    // range: another robot relays, thesis Fig. 4.2). Asked again (the asker's retry: that
+    // one's reply did not come), the next nearest; once each was asked, every holder answers
+    const auto author = static_cast<uint32_t>(id >> 32);
+    std::vector<std::pair<double, uint32_t>> holders{
+        {(position_of(robot_id()) - asker).norm(), robot_id()}};
+    for (const Teammate& t : teammates_)
+      if (t.id != request.from_robot && !t.lost && t.has_position &&
+          std::binary_search(t.holds.begin(), t.holds.end(), id))
+        holders.emplace_back((t.position - asker).norm(), t.id);
+    if (holders.size() > 1)
+      std::erase_if(holders, [&](const auto& h) { return h.second == author; });
+    std::sort(holders.begin(), holders.end());
+    const size_t asked = asks_[{request.from_robot, id}]++;
+    if (asked >= holders.size() || holders[asked].second == robot_id()) replies_due_.insert(id);
+  }
+  send_replies();
+}
+
+// The replies due, as far as the reply pool allows; the rest on the next timer tick (a
+// robot catching up after a restart or a partition asks for many at once: none is dropped)
+void TsdfMapper::send_replies() {
+  while (!replies_due_.empty()) {
+    const auto it = held_.find(*replies_due_.begin());
+    if (it == held_.end()) {
+      replies_due_.erase(replies_due_.begin());
+      continue;
+    }
+    auto loan = reply_.loan();
+    if (!loan) return;
+    **loan = it->second.patch;
+    (void)reply_.publish(std::move(*loan));
+    ++stats_.replies_sent;
+    replies_due_.erase(replies_due_.begin());
+  }
+}
+
+void TsdfMapper::on_teammate_state(size_t teammate, const msg::RobotState& state) {
+  Teammate& t = teammates_[teammate];
+  const bool lost = state.mode == msg::RobotState::Mode::kLost;
+  if (lost == t.lost) return;
+  t.lost = lost;
+  SCANCREW_LOG_INFO("%s: robot %u %s", qualified_name().c_str(), t.id,
+                    lost ? "lost: no longer counted as a holder of patches"
+                         : "back: counted as a holder of patches again");
+}
+
+void TsdfMapper::publish_list() {
+  auto loan = list_.loan();
+  if (!loan) return;
+  (*loan)->header.stamp_ns = last_stamp_ns_;
+  (*loan)->patch_ids.clear();
+  for (const auto& [id, held] : held_) (*loan)->patch_ids.push_back(id);
+  (void)list_.publish(std::move(*loan));
+}
+
+std::shared_ptr<const MapSnapshot> TsdfMapper::snapshot() const {
+  if (current_.block_count() == 0) return global_.snapshot();
+  // global ⊕ current: the current patch's blocks fused onto copies of the global ones
+  BlockTable<const Block> table;
+  table.reserve(global_.block_count() + current_.block_count());
+  for (const auto& [index, block] : global_.blocks()) table.emplace(index, block);
+  const auto max_weight = static_cast<float>(config_.tsdf.max_weight);
+  for (const auto& [index, block] : current_.blocks()) {
+    auto merged = std::make_shared<Block>();
+    if (const Block* g = global_.find(index)) *merged = *g;
+    fuse_block(*merged, *block, max_weight, robot_id());
+    merged->modified = std::max(merged->modified, block->modified);
+    table[index] = std::move(merged);
+  }
+  return std::make_shared<const MapSnapshot>(
+      config_.tsdf, std::max(global_.sequence(), current_.sequence()), std::move(table));
+}
+
+void TsdfMapper::publish_snapshot(int64_t stamp_ns) {
+  auto loan = map_.loan();
+  if (!loan) return;
+  (*loan)->header.stamp_ns = stamp_ns;
+  (*loan)->map = snapshot();
+  (*loan)->frames_integrated = stats_.integrated;
+  (*loan)->robots_integrated = robots_integrated_;
+  (*loan)->patches = static_cast<uint32_t>(held_.size());
+  ++stats_.snapshots;
+  (void)map_.publish(std::move(*loan));
+}
+
+std::vector<uint64_t> TsdfMapper::held_patches() const {
+  std::vector<uint64_t> ids;
+  for (const auto& [id, held] : held_) ids.push_back(id);
+  return ids;
+}
+
+SCANCREW_REGISTER_COMPONENT(TsdfMapper, "tsdf_mapper")
+
+}  // namespace scancrew::tsdf_mapper
