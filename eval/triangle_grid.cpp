@@ -5,7 +5,7 @@
 #include <limits>
 #include <utility>
 
-#include "sim/vec3_math.hpp"
+#include "core/vec3_math.hpp"
 
 namespace scancrew::eval {
 
@@ -40,7 +40,7 @@ Point3 corner(const std::array<double, 9>& c, size_t i) {
 
 Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3& b,
                                  const Point3& c) {
-  const msg::Vec3 q = sim::vec3::closest_point_on_triangle(vec(p), vec(a), vec(b), vec(c));
+  const msg::Vec3 q = vec3::closest_point_on_triangle(vec(p), vec(a), vec(b), vec(c));
   return {q.x, q.y, q.z};
 }
 

@@ -29,7 +29,7 @@ namespace scancrew::eval {
 using Point3 = std::array<double, 3>;
 
 // The point of the triangle (a, b, c) closest to p; exact up to rounding, also for a
-// degenerate triangle (a segment or a point). sim::vec3::closest_point_on_triangle on arrays.
+// degenerate triangle (a segment or a point). vec3::closest_point_on_triangle on arrays.
 Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3& b,
                                  const Point3& c);
 

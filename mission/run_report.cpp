@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/io/ply.hpp"
+#include "core/markup_escape.hpp"
 #include "executors/params_impl.hpp"
 #include "mission/plots.hpp"
 #include "mission/run_files.hpp"
@@ -49,10 +50,10 @@ std::string human_bytes(double bytes) {
 std::string cell(const Json& object, const char* key, Format format) {
   if (!object.is_object() || !object.contains(key) || object.at(key).is_null()) return kMissing;
   const Json& v = object.at(key);
-  if (v.is_string()) return html_escape(v.get<std::string>());
+  if (v.is_string()) return markup_escape(v.get<std::string>());
   if (format == Format::kBool && v.is_boolean()) return v.get<bool>() ? "yes" : "no";
   if (!v.is_number() || format == Format::kText || format == Format::kBool)
-    return html_escape(v.dump(-1, ' ', false, Json::error_handler_t::replace));
+    return markup_escape(v.dump(-1, ' ', false, Json::error_handler_t::replace));
   const double x = v.get<double>();
   switch (format) {
     case Format::kInteger:
@@ -69,7 +70,7 @@ std::string cell(const Json& object, const char* key, Format format) {
       return x >= 1024 ? printf_string("%.0f B", x) + " (" + human_bytes(x) + ")"
                        : printf_string("%.0f B", x);
     default:
-      return html_escape(v.dump());
+      return markup_escape(v.dump());
   }
 }
 
@@ -218,14 +219,14 @@ void time_bars(std::ostream& out, const Json& metrics) {
   out << "<p class=\"legend\">";
   for (size_t a = 0; a < mission::kActivityCount; ++a)
     out << "<span class=\"sw\" style=\"background:" << kColours[a] << "\"></span>"
-        << html_escape(std::string(mission::label(static_cast<mission::Activity>(a)))) << " ";
+        << markup_escape(std::string(mission::label(static_cast<mission::Activity>(a)))) << " ";
   out << "</p>\n<table class=\"bars\">\n";
   for (const Json& r : *robots) {
     if (!r.is_object() || !r.contains("time_s") || !r.at("time_s").is_object()) continue;
     const Json& t = r.at("time_s");
     double total = 0;
     for (const auto& [k, v] : t.items()) total += v.is_number() ? v.get<double>() : 0;
-    out << "<tr><th>" << html_escape(cell(r, "namespace", Format::kText)) << "</th><td>"
+    out << "<tr><th>" << markup_escape(cell(r, "namespace", Format::kText)) << "</th><td>"
         << "<div class=\"bar\">";
     std::string title;
     for (size_t a = 0; a < mission::kActivityCount; ++a) {
@@ -239,10 +240,10 @@ void time_bars(std::ostream& out, const Json& metrics) {
       std::snprintf(what, sizeof what, "%s: %.1f s (%.0f %%)",
                     std::string(mission::label(activity)).c_str(), v, 100 * v / total);
       out << "<span style=\"width:" << pct << "%;background:" << kColours[a] << "\" title=\""
-          << html_escape(what) << "\"></span>";
+          << markup_escape(what) << "\"></span>";
       title += (title.empty() ? "" : ", ") + std::string(what);
     }
-    out << "</div></td><td class=\"small\">" << html_escape(title) << "</td></tr>\n";
+    out << "</div></td><td class=\"small\">" << markup_escape(title) << "</td></tr>\n";
   }
   out << "</table>\n";
 }
@@ -273,7 +274,7 @@ void compute_table(std::ostream& out, const Json& metrics) {
     if (c->is_object() && c->contains("callbacks") && c->at("callbacks").is_number() &&
         c->at("callbacks").get<double>() > 0 && total(*c) >= 0)
       mean = printf_string("%.2f", total(*c) / c->at("callbacks").get<double>());
-    out << "<tr><td>" << html_escape(name) << "</td><td class=\"n\">"
+    out << "<tr><td>" << markup_escape(name) << "</td><td class=\"n\">"
         << cell(*c, "callbacks", Format::kInteger) << "</td><td class=\"n\">"
         << cell(*c, "total_ms", Format::kFixed1) << "</td><td class=\"n\">" << mean
         << "</td><td class=\"n\">" << cell(*c, "p50_ms", Format::kFixed2) << "</td><td class=\"n\">"
@@ -312,7 +313,7 @@ void file_table(std::ostream& out, const fs::path& dir) {
       out << f.name;
     out << "</td><td class=\"n\">"
         << (present && !ec ? human_bytes(static_cast<double>(size)) : kMissing) << "</td><td>"
-        << html_escape(f.what) << "</td></tr>\n";
+        << markup_escape(f.what) << "</td></tr>\n";
   }
   out << "</table>\n";
 }
@@ -357,33 +358,6 @@ std::string string_or(const Json& metrics, const char* key, const std::string& f
 
 }  // namespace
 
-std::string html_escape(const std::string& s) {
-  std::string out;
-  out.reserve(s.size());
-  for (const char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 Result<void, std::string> write_report(const std::string& run_dir) {
   const fs::path dir(run_dir);
   std::error_code ec;
@@ -423,13 +397,13 @@ Result<void, std::string> write_report(const std::string& run_dir) {
   // the page
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>"
-       << "Mission report: " << html_escape(launch_name) << "</title>\n<style>" << kCss
-       << "</style>\n</head>\n<body>\n<h1>Mission report: " << html_escape(launch_name)
-       << "</h1>\n<p class=\"sub\">" << (launch.empty() ? kMissing : html_escape(launch))
+       << "Mission report: " << markup_escape(launch_name) << "</title>\n<style>" << kCss
+       << "</style>\n</head>\n<body>\n<h1>Mission report: " << markup_escape(launch_name)
+       << "</h1>\n<p class=\"sub\">" << (launch.empty() ? kMissing : markup_escape(launch))
        << " &middot; started " << cell(metrics, "started", Format::kText) << " &middot; "
        << cell(metrics, "architecture", Format::kText) << "</p>\n";
   for (const std::string& note : in.notes)
-    html << "<p class=\"note\">Left out of the pictures: " << html_escape(note) << "</p>\n";
+    html << "<p class=\"note\">Left out of the pictures: " << markup_escape(note) << "</p>\n";
   summary_table(html, metrics);
   html << "<h2>Top view</h2>\n<figure><img src=\"top_view.png\" alt=\"top view of the "
           "reconstruction and the robots' paths\">\n<figcaption>The reconstruction seen from "

@@ -19,7 +19,4 @@ namespace scancrew::mission {
 // output that cannot be written. Strings from the files are HTML-escaped.
 Result<void, std::string> write_report(const std::string& run_dir);
 
-// & < > " ' as character references.
-std::string html_escape(const std::string& s);
-
 }  // namespace scancrew::mission

@@ -12,21 +12,12 @@
 #include <fstream>
 #include <limits>
 
+#include "core/vec3_math.hpp"
+
 namespace scancrew::sim {
 
-namespace {
-
-msg::Vec3 sub(const msg::Vec3& a, const msg::Vec3& b) {
-  return {a.x - b.x, a.y - b.y, a.z - b.z};
-}
-msg::Vec3 cross(const msg::Vec3& a, const msg::Vec3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-double norm(const msg::Vec3& a) {
-  return std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
-}
-
-}  // namespace
+using vec3::cross;
+using vec3::sub;
 
 bool mesh_format_supported(const std::string& extension) {
   return !extension.empty() && Assimp::Importer().IsExtensionSupported(extension);

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "sim/vec3_math.hpp"
+#include "core/vec3_math.hpp"
 
 namespace scancrew::sim {
 

@@ -19,6 +19,8 @@
 #include <memory>
 #include <sstream>
 
+#include "core/markup_escape.hpp"
+
 namespace scancrew::dds_bridge {
 namespace {
 
@@ -47,29 +49,6 @@ std::string openssl_error(const std::string& what) {
     out += " (" + std::string(buf) + ")";
   }
   ERR_clear_error();
-  return out;
-}
-
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
   return out;
 }
 
@@ -291,7 +270,7 @@ std::string governance_xml() {
 
 std::string topics_xml(const std::vector<std::string>& topics) {
   std::string x = "<topics>";
-  for (const std::string& t : topics) x += "<topic>" + xml_escape(t) + "</topic>";
+  for (const std::string& t : topics) x += "<topic>" + markup_escape(t) + "</topic>";
   return x + "</topics>";
 }
 
@@ -301,9 +280,9 @@ std::string permissions_xml(const std::string& subject, const PlaceGrant& g) {
       R"( xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">
   <permissions>
     <grant name=")" +
-      xml_escape(g.place) + R"(">
+      markup_escape(g.place) + R"(">
       <subject_name>)" +
-      xml_escape(subject) + R"(</subject_name>
+      markup_escape(subject) + R"(</subject_name>
       <validity><not_before>)" +
       iso_date(-1) + "</not_before><not_after>" + iso_date(kValidDays) + R"(</not_after></validity>
       <allow_rule>

@@ -3,21 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/vec3_math.hpp"
+
 namespace scancrew::io {
-
-namespace {
-
-msg::Vec3 sub(const msg::Vec3& a, const msg::Vec3& b) {
-  return {a.x - b.x, a.y - b.y, a.z - b.z};
-}
-msg::Vec3 cross(const msg::Vec3& a, const msg::Vec3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-double norm(const msg::Vec3& a) {
-  return std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
-}
-
-}  // namespace
 
 msg::Vec3 TriangleMesh::min() const {
   if (vertices.empty()) return {};
@@ -36,8 +24,8 @@ msg::Vec3 TriangleMesh::max() const {
 double TriangleMesh::area() const {
   double a = 0;
   for (const auto& t : triangles)
-    a +=
-        0.5 * norm(cross(sub(vertices[t[1]], vertices[t[0]]), sub(vertices[t[2]], vertices[t[0]])));
+    a += 0.5 * vec3::norm(vec3::cross(vec3::sub(vertices[t[1]], vertices[t[0]]),
+                                      vec3::sub(vertices[t[2]], vertices[t[0]])));
   return a;
 }
 

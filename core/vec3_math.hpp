@@ -9,7 +9,7 @@
 
 #include "interfaces/geometry.hpp"
 
-namespace scancrew::sim::vec3 {
+namespace scancrew::vec3 {
 
 using msg::Vec3;
 
@@ -27,6 +27,9 @@ inline double dot(const Vec3& a, const Vec3& b) {
 }
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double norm(const Vec3& a) {
+  return std::sqrt(dot(a, a));
 }
 inline double distance2(const Vec3& a, const Vec3& b) {
   const Vec3 d = sub(a, b);
@@ -71,4 +74,4 @@ inline Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& 
   return add_scaled(add_scaled(a, ab, vb / area2), ac, vc / area2);
 }
 
-}  // namespace scancrew::sim::vec3
+}  // namespace scancrew::vec3
