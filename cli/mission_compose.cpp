@@ -55,8 +55,8 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   ComponentPlan mapper{.name = "mapper", .type = "tsdf_mapper", .per_robot = !centralized};
   mapper.params["mode"] = s.arch;
   if (masked) mapper.params["depth_topic"] = "depth_masked";
-  // with a reconstruction map, mesh.ply is its mesh (run_command.cpp) and the planning map's
-  // is kept beside it
+  // with a reconstruction map, mesh.ply is its mesh (cli/mesh_scores.cpp, best_mesh) and the
+  // planning map's is kept beside it
   mapper.params["mesh_path"] = s.arch == "distributed"        ? "{out}/mesh_{ns}.ply"
                                : s.reconstruction_voxel_m > 0 ? "{out}/mesh_map.ply"
                                                               : "{out}/mesh.ply";

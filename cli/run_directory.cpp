@@ -118,19 +118,28 @@ void copy_best_mesh(const std::vector<MeshScore>& scores, const MeshScore* best,
   copy_into(map_from->octomap_path, out / "map.bt");
 }
 
+// The architecture (the mappers' mode) and the patches' wire bytes the mappers sent.
+struct Exchange {
+  std::string architecture = "single";
+  uint64_t patch_bytes = 0;
+};
+Exchange exchange_of(const Launch& launch) {
+  Exchange x;
+  for (const auto& c : launch.components())
+    if (const auto* mapper = dynamic_cast<const tsdf_mapper::TsdfMapper*>(c.get())) {
+      x.architecture = mapper->config().mode;
+      x.patch_bytes += mapper->stats().patch_wire_bytes;
+    }
+  return x;
+}
+
 // The run's facts and the scores of its meshes: the top of metrics.json.
-Json run_metrics(const Launch& launch, const MissionMonitor& monitor, const RunFacts& run,
-                 const std::vector<MeshScore>& scores, const MeshScore* best) {
+Json run_metrics(const MissionMonitor& monitor, const RunFacts& run,
+                 const std::string& architecture, const std::vector<MeshScore>& scores,
+                 const MeshScore* best) {
   Json m;
   m["launch"] = run.launch_path;
   m["scene"] = monitor.config().scene;
-  std::string architecture = "single";
-  uint64_t bytes = 0;
-  for (const auto& c : launch.components())
-    if (const auto* mapper = dynamic_cast<const tsdf_mapper::TsdfMapper*>(c.get())) {
-      architecture = mapper->config().mode;
-      bytes += mapper->stats().patch_wire_bytes;
-    }
   m["architecture"] = architecture;
   m["started"] = run.started;
   m["completed"] = run.stop_reason == "complete";
@@ -162,10 +171,6 @@ Json run_metrics(const Launch& launch, const MissionMonitor& monitor, const RunF
   }
   m["meshes"] = std::move(meshes);
   m["eval_visibility_rays"] = monitor.config().visibility_rays;
-  // distributed: the completed patches the robots sent (their wire size). Centralized: the
-  // depth images and poses to the station, which an in-process run does not serialise, so
-  // not measured here (null), rather than a 0 that would read as "nothing sent".
-  m["data_exchanged_bytes"] = architecture == "centralized" ? Json(nullptr) : Json(bytes);
   return m;
 }
 
@@ -256,7 +261,8 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   const MeshScore* best = best_mesh(scores);
   copy_best_mesh(scores, best, out);
 
-  Json m = run_metrics(launch, monitor, run, scores, best);
+  const Exchange exchange = exchange_of(launch);
+  Json m = run_metrics(monitor, run, exchange.architecture, scores, best);
   Planners planners;
   Contacts contacts;
   for (const auto& c : launch.components()) {
@@ -278,6 +284,11 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   }
   m["total_path_length_m"] = total_length;
   add_exploration_metrics(m, launch, monitor, planners, run.sim_s);
+  // distributed: the completed patches the robots sent (their wire size). Centralized: the
+  // depth images and poses to the station, which an in-process run does not serialise, so
+  // not measured here (null), rather than a 0 that would read as "nothing sent".
+  m["data_exchanged_bytes"] =
+      exchange.architecture == "centralized" ? Json(nullptr) : Json(exchange.patch_bytes);
   m["collisions"] = contacts.robot_robot + contacts.robot_scene;
   m["contacts"] = {{"robot_robot", contacts.robot_robot}, {"robot_scene", contacts.robot_scene}};
   m["replans"] = replans;

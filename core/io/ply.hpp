@@ -37,6 +37,9 @@ struct PlyData {
   std::span<const uint8_t> colours;     // empty, or red green blue per vertex
   std::span<const uint32_t> triangles;  // empty (a point cloud), or three vertex indices each
   std::vector<std::string> comments;    // a `comment` line of the header each (no line breaks)
+  // A mesh: the header declares normals (then one per vertex is required) and the face
+  // element even when there are none, so that an empty mesh reads back as a mesh.
+  bool mesh = false;
 };
 
 // A view of n three-value items (std::array<float, 3>, Eigen::Vector3f, a triangle's indices)

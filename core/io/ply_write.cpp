@@ -28,7 +28,7 @@ void put_le(uint32_t bits, std::vector<char>& out) {
 std::string check(const PlyData& d) {
   if (d.positions.size() % 3 != 0) return "positions: not three values a vertex";
   const size_t n = d.positions.size() / 3;
-  if (!d.normals.empty() && d.normals.size() != 3 * n)
+  if ((d.mesh || !d.normals.empty()) && d.normals.size() != 3 * n)
     return std::to_string(n) + " vertices but " + std::to_string(d.normals.size() / 3) + " normals";
   if (!d.colours.empty() && d.colours.size() != 3 * n)
     return std::to_string(n) + " vertices but " + std::to_string(d.colours.size() / 3) + " colours";
@@ -48,9 +48,10 @@ std::string header(const PlyData& d) {
   for (const auto& c : d.comments) h += "comment " + c + "\n";
   h += "element vertex " + std::to_string(d.positions.size() / 3) +
        "\nproperty float x\nproperty float y\nproperty float z\n";
-  if (!d.normals.empty()) h += "property float nx\nproperty float ny\nproperty float nz\n";
+  if (d.mesh || !d.normals.empty())
+    h += "property float nx\nproperty float ny\nproperty float nz\n";
   if (!d.colours.empty()) h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-  if (!d.triangles.empty())
+  if (d.mesh || !d.triangles.empty())
     h += "element face " + std::to_string(d.triangles.size() / 3) +
          "\nproperty list uchar int vertex_indices\n";
   return h + "end_header\n";
@@ -82,7 +83,7 @@ Result<void, std::string> write_ply(const std::string& path, const PlyData& d) {
   for (size_t i = 0; i < n; ++i) {
     for (size_t k = 3 * i; k < 3 * i + 3; ++k)
       put_le(std::bit_cast<uint32_t>(d.positions[k]), buffer);
-    if (!d.normals.empty())
+    if (d.mesh || !d.normals.empty())
       for (size_t k = 3 * i; k < 3 * i + 3; ++k)
         put_le(std::bit_cast<uint32_t>(d.normals[k]), buffer);
     if (!d.colours.empty())

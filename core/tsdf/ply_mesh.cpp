@@ -40,7 +40,8 @@ Result<void, std::string> write_ply(const Mesh& mesh, const std::string& path, P
                               .normals = io::flat(mesh.normals),
                               .colours = io::flat(colours),
                               .triangles = io::flat(mesh.triangles),
-                              .comments = {"scancrew TSDF mesh"}});
+                              .comments = {"scancrew TSDF mesh"},
+                              .mesh = true});
 }
 
 }  // namespace scancrew::tsdf

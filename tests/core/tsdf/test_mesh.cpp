@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "core/io/ply.hpp"
 #include "core/tsdf/integrator.hpp"
 #include "core/tsdf/marching_cubes_tables.hpp"
 #include "core/tsdf/mesher.hpp"
@@ -526,7 +527,12 @@ TEST(PlyMesh, AnEmptyMeshIsAValidFileAndBadPathsAreNamed) {
   ASSERT_TRUE(write_ply(Mesh{}, path, PlyColour::kByOwner));
   const PlyFile ply = read_ply(path);
   EXPECT_NE(std::find(ply.header.begin(), ply.header.end(), "element vertex 0"), ply.header.end());
+  EXPECT_NE(std::find(ply.header.begin(), ply.header.end(), "element face 0"), ply.header.end());
   EXPECT_TRUE(ply.body.empty());
+  // still a mesh to the reader (the evaluation scores it as empty, not as a point cloud)
+  const auto back = io::read_ply_mesh(path);
+  ASSERT_TRUE(back) << back.error();
+  EXPECT_TRUE(back->triangles.empty());
   std::filesystem::remove(path);
 
   const std::string bad = "/nonexistent_dir_scancrew/mesh.ply";
@@ -540,6 +546,11 @@ TEST(PlyMesh, AnEmptyMeshIsAValidFileAndBadPathsAreNamed) {
   broken.normals.resize(2);
   broken.triangles.push_back({0, 1, 2});
   EXPECT_FALSE(write_ply(broken, path));
+  EXPECT_FALSE(std::filesystem::exists(path));
+  Mesh no_normals;  // a mesh's vertices need their normals
+  no_normals.vertices.resize(3);
+  no_normals.triangles.push_back({0, 1, 2});
+  EXPECT_FALSE(write_ply(no_normals, path));
   EXPECT_FALSE(std::filesystem::exists(path));
 }
 
