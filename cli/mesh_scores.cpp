@@ -19,7 +19,7 @@ namespace scancrew::cli {
 namespace {
 
 namespace fs = std::filesystem;
-using components::MissionMonitor;
+using mission_monitor::MissionMonitor;
 
 // The voxel size of an OctoMap binary file (its text header's "res" line); 0 if unreadable.
 double octomap_resolution(const fs::path& path) {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "components/mission/mission_monitor.hpp"
+#include "components/mission_monitor/mission_monitor.hpp"
 #include "eval/reconstruction_error.hpp"
 #include "executors/launch.hpp"
 
@@ -28,7 +28,8 @@ struct MeshScore {
 
 // Each mapper's mesh (written as the launch stopped) against the scene's ground truth; the
 // meshes written into the run directory since `started` when the launch has no mapper.
-std::vector<MeshScore> score_meshes(const Launch& launch, const components::MissionMonitor& monitor,
+std::vector<MeshScore> score_meshes(const Launch& launch,
+                                    const mission_monitor::MissionMonitor& monitor,
                                     std::filesystem::file_time_type started);
 
 // Whether s stands for its place: a place with two mappers (a planning map and a finer

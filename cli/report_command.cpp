@@ -1,5 +1,5 @@
 // `scancrew report <run_dir>`: a mission run directory's pictures and report.html, written
-// again from its files (mission/run_report.hpp).
+// again from its files (report/run_report.hpp).
 
 #include <cstdio>
 #include <memory>
@@ -7,14 +7,14 @@
 
 #include "cli/commands.hpp"
 #include "executors/log.hpp"
-#include "mission/run_report.hpp"
+#include "report/run_report.hpp"
 
 namespace scancrew::cli {
 
 namespace {
 
 int write_report(const std::string& run_dir) {
-  const auto written = mission::write_report(run_dir);
+  const auto written = report::write_report(run_dir);
   if (!written) {
     std::fprintf(stderr, "scancrew report: %s\n", log::printable(written.error()).c_str());
     return 1;

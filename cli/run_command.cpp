@@ -14,7 +14,7 @@
 #include "cli/report.hpp"
 #include "cli/run_directory.hpp"
 #include "components/dds_bridge/dds_bridge.hpp"
-#include "components/mission/mission_monitor.hpp"
+#include "components/mission_monitor/mission_monitor.hpp"
 #include "executors/launch.hpp"
 #include "executors/log.hpp"
 
@@ -23,7 +23,7 @@ namespace scancrew::cli {
 namespace {
 
 namespace fs = std::filesystem;
-using components::MissionMonitor;
+using mission_monitor::MissionMonitor;
 
 Launch* g_running = nullptr;
 

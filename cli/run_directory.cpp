@@ -8,23 +8,23 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/mesh_scores.hpp"
-#include "components/low_level/low_level_planner.hpp"
+#include "components/low_level_planner/low_level_planner.hpp"
 #include "components/team_simulator/team_simulator.hpp"
 #include "components/tsdf_mapper/tsdf_mapper.hpp"
 #include "executors/log.hpp"
 #include "executors/trace.hpp"
-#include "mission/run_files.hpp"
-#include "mission/run_report.hpp"
-#include "mission/time_breakdown.hpp"
+#include "report/run_files.hpp"
+#include "report/run_report.hpp"
+#include "report/time_breakdown.hpp"
 
 namespace scancrew::cli {
 
 namespace {
 
 namespace fs = std::filesystem;
-using components::MissionMonitor;
+using mission_monitor::MissionMonitor;
 using Json = nlohmann::ordered_json;
-using Planners = std::map<uint32_t, const low_level::LowLevelPlanner*>;
+using Planners = std::map<uint32_t, const low_level_planner::LowLevelPlanner*>;
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
@@ -42,15 +42,15 @@ Json per_goal(double x, uint64_t goals) {
 // time goes"): the mean share of each activity over the robots, plan churn (tours per goal
 // reached), metres per goal, coverage per metre and per minute, the times to 50 / 90 / 95 %
 // coverage (the monitor's estimate), and what each place computed.
-void add_exploration_metrics(Json& m, const Launch& launch, const MissionMonitor& monitor,
-                             const std::map<uint32_t, const low_level::LowLevelPlanner*>& planners,
-                             double sim_s) {
+void add_exploration_metrics(
+    Json& m, const Launch& launch, const MissionMonitor& monitor,
+    const std::map<uint32_t, const low_level_planner::LowLevelPlanner*>& planners, double sim_s) {
   const auto robots = monitor.robots();
   Json share = Json::object();
-  for (size_t a = 0; a < mission::kActivityCount; ++a) {
+  for (size_t a = 0; a < report::kActivityCount; ++a) {
     double sum = 0;
     for (const auto& r : robots) sum += r.time.total() > 0 ? r.time.seconds[a] / r.time.total() : 0;
-    share[std::string(mission::to_string(static_cast<mission::Activity>(a)))] =
+    share[std::string(report::to_string(static_cast<report::Activity>(a)))] =
         robots.empty() ? 0.0 : sum / static_cast<double>(robots.size());
   }
   m["idle_share"] = share["idle_open"].get<double>() + share["idle_done"].get<double>();
@@ -72,7 +72,7 @@ void add_exploration_metrics(Json& m, const Launch& launch, const MissionMonitor
   for (const bool reachable : {false, true}) {
     Json times = Json::object();
     for (const double share_of : {0.5, 0.9, 0.95}) {
-      const auto t = mission::time_to_coverage(samples, share_of, reachable);
+      const auto t = report::time_to_coverage(samples, share_of, reachable);
       times[std::to_string(std::lround(100 * share_of))] = t ? Json(*t) : Json(nullptr);
     }
     m[reachable ? "time_to_coverage_reachable_s" : "time_to_coverage_s"] = std::move(times);
@@ -197,8 +197,8 @@ Json robot_metrics(const MissionMonitor::RobotProgress& r, const Planners& plann
     j["m_per_goal"] = per_goal(r.path_length_m, st.goals_reached);
   }
   Json time = Json::object();
-  for (size_t a = 0; a < mission::kActivityCount; ++a)
-    time[std::string(mission::to_string(static_cast<mission::Activity>(a)))] = r.time.seconds[a];
+  for (size_t a = 0; a < report::kActivityCount; ++a)
+    time[std::string(report::to_string(static_cast<report::Activity>(a)))] = r.time.seconds[a];
   j["time_s"] = std::move(time);
   j["ises_left"] = r.ises_left;
   j["state"] = r.have_state ? std::string(msg::to_string(r.mode)) : "starting";
@@ -255,8 +255,8 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
       ok = false;
     }
   };
-  check(mission::write_paths_csv((out / "paths.csv").string(), monitor.paths()));
-  check(mission::write_coverage_csv((out / "coverage.csv").string(), monitor.coverage()));
+  check(report::write_paths_csv((out / "paths.csv").string(), monitor.paths()));
+  check(report::write_coverage_csv((out / "coverage.csv").string(), monitor.coverage()));
   const auto scores = score_meshes(launch, monitor, run.started_at);
   const MeshScore* best = best_mesh(scores);
   copy_best_mesh(scores, best, out);
@@ -266,9 +266,9 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   Planners planners;
   Contacts contacts;
   for (const auto& c : launch.components()) {
-    if (const auto* p = dynamic_cast<const low_level::LowLevelPlanner*>(c.get()))
+    if (const auto* p = dynamic_cast<const low_level_planner::LowLevelPlanner*>(c.get()))
       planners[p->robot_id()] = p;
-    if (const auto* s = dynamic_cast<const components::TeamSimulator*>(c.get());
+    if (const auto* s = dynamic_cast<const team_simulator::TeamSimulator*>(c.get());
         s && s->simulator()) {
       contacts.robot_robot += s->simulator()->contacts().robot_robot;
       contacts.robot_scene += s->simulator()->contacts().robot_scene;
@@ -302,7 +302,7 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
     return false;
   }
   file.close();
-  check(mission::write_report(out.string()));
+  check(report::write_report(out.string()));
   print_summary(run, best, contacts, out);
   return ok;
 }

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "components/mission/mission_monitor.hpp"
+#include "components/mission_monitor/mission_monitor.hpp"
 #include "executors/launch.hpp"
 
 namespace scancrew::cli {
@@ -20,7 +20,7 @@ struct RunFacts {
 };
 
 // Writes the run directory; returns false (after saying why) if a file could not be written.
-bool write_run_directory(const Launch& launch, const components::MissionMonitor& monitor,
+bool write_run_directory(const Launch& launch, const mission_monitor::MissionMonitor& monitor,
                          const RunFacts& run, const std::filesystem::path& out);
 
 }  // namespace scancrew::cli

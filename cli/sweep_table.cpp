@@ -141,9 +141,9 @@ Result<SweepRun, std::string> read_sweep_metrics(std::string_view json_text, Swe
   run.tours_per_goal = number_at(j, "tours_per_goal");
   run.m_per_goal = number_at(j, "m_per_goal");
   if (const auto t = j.find("time_share"); t != j.end() && t->is_object())
-    for (size_t a = 0; a < mission::kActivityCount; ++a)
+    for (size_t a = 0; a < report::kActivityCount; ++a)
       run.time_share[a] =
-          number_at(*t, std::string(mission::to_string(mission::Activity(a))).c_str());
+          number_at(*t, std::string(report::to_string(report::Activity(a))).c_str());
   if (const auto t = j.find("time_to_coverage_reachable_s"); t != j.end() && t->is_object())
     run.time_to_95_reachable_s = number_at(*t, "95");
   if (const auto c = j.find("compute_time"); c != j.end() && c->is_string())
@@ -183,7 +183,7 @@ std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
 
   struct Values {
     std::vector<double> time, coverage, rmse, path, data, reachable, idle, t95, tours, m_goal;
-    std::array<std::vector<double>, mission::kActivityCount> share;
+    std::array<std::vector<double>, report::kActivityCount> share;
   };
   std::vector<SweepRow> rows;
   std::vector<Values> values;
@@ -228,7 +228,7 @@ std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
       v.t95.push_back(r.time_to_95_reachable_s);
       v.tours.push_back(r.tours_per_goal);
       v.m_goal.push_back(r.m_per_goal);
-      for (size_t a = 0; a < mission::kActivityCount; ++a)
+      for (size_t a = 0; a < report::kActivityCount; ++a)
         v.share[a].push_back(100.0 * r.time_share[a]);
       row.collisions += r.collisions;
     }
@@ -244,7 +244,7 @@ std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
     rows[i].t95_reachable_s = mean_std(values[i].t95);
     rows[i].tours_per_goal = mean_std(values[i].tours);
     rows[i].m_per_goal = mean_std(values[i].m_goal);
-    for (size_t a = 0; a < mission::kActivityCount; ++a)
+    for (size_t a = 0; a < report::kActivityCount; ++a)
       rows[i].time_share_pct[a] = mean_std(values[i].share[a]);
   }
   return rows;
@@ -276,8 +276,8 @@ std::string format_sweep_csv(const std::vector<SweepRun>& runs) {
       "arch,robots,seed,stop_reason,completion_time_s,sim_time_s,wall_time_s,coverage,"
       "mean_error_m,rmse_m,total_path_length_m,data_exchanged_bytes,collisions,replans,"
       "coverage_reachable,idle_share,time_to_95_reachable_s,tours_per_goal,m_per_goal,";
-  for (size_t a = 0; a < mission::kActivityCount; ++a)
-    csv += "share_" + std::string(mission::to_string(mission::Activity(a))) + ",";
+  for (size_t a = 0; a < report::kActivityCount; ++a)
+    csv += "share_" + std::string(report::to_string(report::Activity(a))) + ",";
   csv += "compute_time,scene,run_dir,error\n";
   for (const SweepRun& r : runs) {
     const bool measured = outcome_of(r) != RunOutcome::kFailed;

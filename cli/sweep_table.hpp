@@ -16,13 +16,13 @@
 #include <vector>
 
 #include "core/result.hpp"
-#include "mission/time_breakdown.hpp"
+#include "report/time_breakdown.hpp"
 
 namespace scancrew::cli {
 
 inline constexpr double kNoValue = NAN;  // a metric metrics.json did not give (null, absent)
-inline std::array<double, mission::kActivityCount> no_time_share() {
-  std::array<double, mission::kActivityCount> a;
+inline std::array<double, report::kActivityCount> no_time_share() {
+  std::array<double, report::kActivityCount> a;
   a.fill(kNoValue);
   return a;
 }
@@ -54,8 +54,8 @@ struct SweepRun {
   double tours_per_goal = kNoValue;
   double m_per_goal = kNoValue;
   // metrics.json's time_share: the robots' mean share of the mission per activity
-  // (mission/time_breakdown.hpp's order), each in [0, 1]
-  std::array<double, mission::kActivityCount> time_share = no_time_share();
+  // (report/time_breakdown.hpp's order), each in [0, 1]
+  std::array<double, report::kActivityCount> time_share = no_time_share();
   std::string compute_time;  // charged | free
 };
 
@@ -93,7 +93,7 @@ struct SweepRow {
   MeanStd coverage_pct, rmse_mm, path_m, data_mb;
   MeanStd coverage_reachable_pct, idle_pct;
   MeanStd t95_reachable_s, tours_per_goal, m_per_goal;
-  std::array<MeanStd, mission::kActivityCount> time_share_pct;
+  std::array<MeanStd, report::kActivityCount> time_share_pct;
   uint64_t collisions = 0;  // summed over the runs
 };
 

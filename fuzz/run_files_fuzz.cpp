@@ -1,11 +1,11 @@
 // The run-directory readers of `scancrew report` and the benchmark tables
-// (mission/run_files.hpp, cli/explore_table.hpp): byte 0 picks paths.csv, coverage.csv or
+// (report/run_files.hpp, cli/explore_table.hpp): byte 0 picks paths.csv, coverage.csv or
 // metrics.json.
 #include <string_view>
 
 #include "cli/explore_table.hpp"
 #include "fuzz/fuzz_input.hpp"
-#include "mission/run_files.hpp"
+#include "report/run_files.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
@@ -13,10 +13,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const size_t n = size - 1;
   switch (data[0] % 3) {
     case 0:
-      (void)scancrew::mission::read_paths_csv(scancrew::fuzz::as_file(rest, n));
+      (void)scancrew::report::read_paths_csv(scancrew::fuzz::as_file(rest, n));
       break;
     case 1:
-      (void)scancrew::mission::read_coverage_csv(scancrew::fuzz::as_file(rest, n));
+      (void)scancrew::report::read_coverage_csv(scancrew::fuzz::as_file(rest, n));
       break;
     default:
       (void)scancrew::cli::read_explore_metrics(

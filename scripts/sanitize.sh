@@ -12,7 +12,8 @@ cmake --preset "$kind" >/dev/null
 # (label "sanitize_asan").
 targets=(test_executors test_no_allocation test_trace test_interfaces)
 [ "$kind" = asan ] && targets+=(test_tsdf test_tsdf_mesh test_tsdf_patch test_ise test_tsga_solver
-  test_tsga_planner test_low_level_planner test_low_level_checks test_tracker_law
+  test_tsga_planner test_motion_planner test_motion_checks test_planner_params test_core
+  test_path_tracker_law
   test_dds_link_model)
 cmake --build --preset "$kind" --target "${targets[@]}"
 if [ "$kind" = tsan ]; then

@@ -64,7 +64,7 @@ Result<SequenceInfo, std::string> record_sequence(const SequenceOptions& o) {
     return make_unexpected(all);
   }
   Launch& launch = **made;
-  auto* driver = launch.find_component<components::WaypointDriver>();
+  auto* driver = launch.find_component<waypoint_driver::WaypointDriver>();
   auto* recorder = launch.find_component<recorder::Recorder>();
   if (driver == nullptr || recorder == nullptr)
     return make_unexpected(std::string("the recording launch lacks its driver or recorder"));

@@ -13,8 +13,8 @@
 #include "bench/bench_stats.hpp"
 #include "bench/ise/flight_sequence.hpp"
 #include "bench/tsdf/depth_sequence.hpp"
-#include "components/low_level/motion_planner.hpp"
-#include "components/low_level/obstacle_geometry.hpp"
+#include "core/motion/motion_planner.hpp"
+#include "core/motion/obstacle_geometry.hpp"
 #include "core/tsdf/integrator.hpp"
 #include "core/tsdf/tsdf_map.hpp"
 #include "interfaces/eigen_conversions.hpp"
@@ -27,10 +27,10 @@ namespace scancrew::bench {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using low_level::MotionPlanner;
-using low_level::PlannerConfig;
-using low_level::PlanResult;
-using low_level::PlanStatus;
+using motion::MotionPlanner;
+using motion::PlannerConfig;
+using motion::PlanResult;
+using motion::PlanStatus;
 
 constexpr double kMedianTargetMs = 50;
 // query ends: when fewer of the robot's own poses are free, random free positions are drawn
@@ -101,8 +101,8 @@ msg::Waypoint robot_pose(const Eigen::Isometry3d& T_world_cam, bool ground) {
 }
 
 // The scene as build_mjcf() places it: boxes, cylinders, walls, ceiling, floor, meshes.
-Result<low_level::ObstacleGeometry, std::string> ground_truth(const sim::SceneSpec& s) {
-  low_level::ObstacleGeometry g;
+Result<motion::ObstacleGeometry, std::string> ground_truth(const sim::SceneSpec& s) {
+  motion::ObstacleGeometry g;
   auto v = [](const msg::Vec3& p) { return Eigen::Vector3d(p.x, p.y, p.z); };
   const double sx = s.max_m.x - s.min_m.x, sy = s.max_m.y - s.min_m.y;
   const double cx = 0.5 * (s.min_m.x + s.max_m.x), cy = 0.5 * (s.min_m.y + s.max_m.y);
@@ -167,7 +167,7 @@ struct Tally {
   size_t through_unknown = 0, colliding_known = 0;
   // strict: a planner on the same map with unknown space occupied, to tell paths that
   // cross unknown space from those in known free space
-  void add(const PlanResult& r, const low_level::ObstacleGeometry& truth, const Case& c,
+  void add(const PlanResult& r, const motion::ObstacleGeometry& truth, const Case& c,
            const MotionPlanner& strict) {
     ms.push_back(r.stats.total_ms);
     ++by_status[static_cast<size_t>(r.status)];
@@ -178,8 +178,8 @@ struct Tally {
     length_m += r.stats.length_m;
     PlannerConfig bare = c.planner;
     bare.body_margin_m = 0;
-    const low_level::PathCheck check =
-        truth.check_path(c.planner, low_level::body_of(bare), r.path, c.check_step_m);
+    const motion::PathCheck check =
+        truth.check_path(c.planner, motion::body_of(bare), r.path, c.check_step_m);
     ++checked;
     colliding += check.colliding > 0 ? 1 : 0;
     bool known = true;
@@ -206,19 +206,19 @@ struct Tally {
     Json j;
     for (size_t i = 0; i < by_status.size(); ++i)
       if (by_status[i] > 0)
-        j[std::string(low_level::to_string(static_cast<PlanStatus>(i)))] = by_status[i];
+        j[std::string(motion::to_string(static_cast<PlanStatus>(i)))] = by_status[i];
     return j;
   }
 };
 
-Json run_queries(const Case& c, Run& run, const low_level::ObstacleGeometry& truth, int queries,
+Json run_queries(const Case& c, Run& run, const motion::ObstacleGeometry& truth, int queries,
                  int firsts, uint64_t seed) {
   // query ends: the robot's poses that are free in the final map
   std::vector<msg::Waypoint> free;
   size_t truly_colliding = 0;  // free in the map, not in the true geometry (should be none)
   PlannerConfig bare = c.planner;
   bare.body_margin_m = 0;
-  const robot::BodyModel true_body = low_level::body_of(bare);
+  const robot::BodyModel true_body = motion::body_of(bare);
   for (size_t i = 0; i < run.poses.size(); i += 2) {
     const msg::Waypoint& p = run.poses[i];
     const bool in_band = c.planner.robot_kind == robot::RobotKind::kGround ||
@@ -252,7 +252,7 @@ Json run_queries(const Case& c, Run& run, const low_level::ObstacleGeometry& tru
     }
   }
   for (const msg::Waypoint& p : free)
-    if (truth.collides(true_body, low_level::body_pose(c.planner, p))) ++truly_colliding;
+    if (truth.collides(true_body, motion::body_pose(c.planner, p))) ++truly_colliding;
   std::vector<std::pair<msg::Waypoint, msg::Waypoint>> pairs;
   if (free.size() >= 2) {
     std::uniform_int_distribution<size_t> pick(0, free.size() - 1);
@@ -465,9 +465,9 @@ int run_planner_bench(const PlannerBenchOptions& o) {
     row["map_blocks"] = run.last->block_count();
     row["map_update_ms"] = {{"mean", mean(run.update_ms)}, {"max", max_of(run.update_ms)}};
     row.update(run_queries(c, run, *truth, queries, firsts, o.seed));
-    row["body_radii_m"] = {low_level::body_of(c.planner).safety_radii_m.x(),
-                           low_level::body_of(c.planner).safety_radii_m.y(),
-                           low_level::body_of(c.planner).safety_radii_m.z()};
+    row["body_radii_m"] = {motion::body_of(c.planner).safety_radii_m.x(),
+                           motion::body_of(c.planner).safety_radii_m.y(),
+                           motion::body_of(c.planner).safety_radii_m.z()};
     row["body_margin_m"] = c.planner.body_margin_m;
     row["unknown_is_occupied"] = c.planner.unknown_is_occupied;
     row["time_limit_s"] = c.planner.planner_time_limit_s;

@@ -1,7 +1,7 @@
 #pragma once
 
 // `scancrew bench planner`: query time of the low-level planner's core
-// (components/low_level/motion_planner.hpp: LazyPRM* + FCL octree, thesis 2.5.3) on two
+// (core/motion/motion_planner.hpp: LazyPRM* + FCL octree, thesis 2.5.3) on two
 // maps built while the bench runs, as bench/ise builds them (figures:
 // docs/low_level_planner.md):
 //

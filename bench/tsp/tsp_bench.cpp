@@ -9,10 +9,10 @@
 #include <string_view>
 #include <vector>
 
-#include "components/tsga/atsp.hpp"
-#include "components/tsga/tsga_planner.hpp"
-#include "components/tsga/tsplib.hpp"
-#include "components/tsga/utility.hpp"
+#include "core/tsga/atsp.hpp"
+#include "core/tsga/tsga_planner.hpp"
+#include "core/tsga/tsplib.hpp"
+#include "core/tsga/utility.hpp"
 
 namespace scancrew::bench {
 

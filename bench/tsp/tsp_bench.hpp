@@ -1,6 +1,6 @@
 #pragma once
 
-// `scancrew bench tsp`: the (max)ATSP solver of components/tsga (figures: docs/tsp_bench.md).
+// `scancrew bench tsp`: the (max)ATSP solver of core/tsga (figures: docs/tsp_bench.md).
 //
 //   1. TSPLIB: every ATSP instance of data/tsplib_atsp/ solved as a closed tour
 //      (solve_closed_atsp, one thread, seed 1, kicks_per_node x n kicks, 1 s time limit):

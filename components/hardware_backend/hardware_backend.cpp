@@ -7,7 +7,7 @@
 #include "executors/log.hpp"
 #include "executors/registry.hpp"
 
-namespace scancrew::components {
+namespace scancrew::hardware_backend {
 
 namespace {
 
@@ -290,4 +290,4 @@ void HardwareBackend::on_shutdown() {
 
 SCANCREW_REGISTER_COMPONENT(HardwareBackend, "hardware_backend")
 
-}  // namespace scancrew::components
+}  // namespace scancrew::hardware_backend

@@ -41,7 +41,7 @@
 #include "interfaces/nav_msgs.hpp"
 #include "interfaces/sensor_msgs.hpp"
 
-namespace scancrew::components {
+namespace scancrew::hardware_backend {
 
 class HardwareBackend final : public Component {
  public:
@@ -116,4 +116,4 @@ class HardwareBackend final : public Component {
   int64_t last_imu_ns_ = 0;
 };
 
-}  // namespace scancrew::components
+}  // namespace scancrew::hardware_backend

@@ -5,7 +5,7 @@
 #include "executors/log.hpp"
 #include "executors/registry.hpp"
 
-namespace scancrew::components {
+namespace scancrew::team_simulator {
 
 namespace {
 
@@ -247,4 +247,4 @@ void TeamSimulator::on_deactivate() {
 
 SCANCREW_REGISTER_COMPONENT(TeamSimulator, "team_simulator")
 
-}  // namespace scancrew::components
+}  // namespace scancrew::team_simulator

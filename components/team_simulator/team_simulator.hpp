@@ -24,7 +24,7 @@
 #include "interfaces/sensor_msgs.hpp"
 #include "sim/team_sim.hpp"
 
-namespace scancrew::components {
+namespace scancrew::team_simulator {
 
 class TeamSimulator final : public Component {
  public:
@@ -78,4 +78,4 @@ class TeamSimulator final : public Component {
   int contacts_logged_ = 0;
 };
 
-}  // namespace scancrew::components
+}  // namespace scancrew::team_simulator

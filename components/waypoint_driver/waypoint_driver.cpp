@@ -9,7 +9,7 @@
 #include "executors/registry.hpp"
 #include "interfaces/eigen_conversions.hpp"
 
-namespace scancrew::components {
+namespace scancrew::waypoint_driver {
 
 WaypointDriver::Config WaypointDriver::read_config(ParamReader& p) {
   Config c;
@@ -103,4 +103,4 @@ void WaypointDriver::on_tick() {
 
 SCANCREW_REGISTER_COMPONENT(WaypointDriver, "waypoint_driver")
 
-}  // namespace scancrew::components
+}  // namespace scancrew::waypoint_driver

@@ -21,7 +21,7 @@
 #include "executors/params.hpp"
 #include "interfaces/nav_msgs.hpp"
 
-namespace scancrew::components {
+namespace scancrew::waypoint_driver {
 
 class WaypointDriver final : public Component {
  public:
@@ -61,4 +61,4 @@ class WaypointDriver final : public Component {
   double travelled_m_ = 0;
 };
 
-}  // namespace scancrew::components
+}  // namespace scancrew::waypoint_driver

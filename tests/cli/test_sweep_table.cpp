@@ -255,12 +255,12 @@ TEST(SweepTable, WhereTheTimeGoesIsReadAndAveragedOverTheRuns) {
       {.arch = "centralized", .robots = 2, .seed = 1}, "m.json");
   ASSERT_TRUE(run) << run.error();
   EXPECT_DOUBLE_EQ(run->m_per_goal, 4.0);
-  EXPECT_DOUBLE_EQ(run->time_share[static_cast<size_t>(mission::Activity::kTraffic)], 0.05);
-  EXPECT_DOUBLE_EQ(run->time_share[static_cast<size_t>(mission::Activity::kIdleOpen)], 0.1);
+  EXPECT_DOUBLE_EQ(run->time_share[static_cast<size_t>(report::Activity::kTraffic)], 0.05);
+  EXPECT_DOUBLE_EQ(run->time_share[static_cast<size_t>(report::Activity::kIdleOpen)], 0.1);
   SweepRun other = *run;
   other.seed = 2;
-  other.time_share[static_cast<size_t>(mission::Activity::kDriving)] = 0.5;
-  other.time_share[static_cast<size_t>(mission::Activity::kIdleOpen)] = 0.3;
+  other.time_share[static_cast<size_t>(report::Activity::kDriving)] = 0.5;
+  other.time_share[static_cast<size_t>(report::Activity::kIdleOpen)] = 0.3;
   other.tours_per_goal = 3.5;
   other.time_to_95_reachable_s = 100;
   const std::vector<SweepRun> runs = {*run, other};

@@ -35,7 +35,7 @@
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 
-namespace scancrew::components {
+namespace scancrew::hardware_backend {
 namespace {
 
 using hardware::FrameStatus;
@@ -689,4 +689,4 @@ T: [0.26, 0, 0]
 }
 
 }  // namespace
-}  // namespace scancrew::components
+}  // namespace scancrew::hardware_backend

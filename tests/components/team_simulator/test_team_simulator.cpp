@@ -10,7 +10,7 @@
 #include "executors/registry.hpp"
 #include "tests/components/constant_driver.hpp"
 
-namespace scancrew::components {
+namespace scancrew::team_simulator {
 namespace {
 
 // Records what the robot's sensors deliver.
@@ -165,4 +165,4 @@ TEST(TeamSimulator, RefusesARobotStartingInsideAnObstacle) {
 }
 
 }  // namespace
-}  // namespace scancrew::components
+}  // namespace scancrew::team_simulator

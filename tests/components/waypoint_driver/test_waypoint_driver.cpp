@@ -12,7 +12,7 @@
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 
-namespace scancrew::components {
+namespace scancrew::waypoint_driver {
 namespace {
 
 // Keeps the ground-truth poses.
@@ -136,4 +136,4 @@ TEST(WaypointDriver, RefusesAWaypointListThatIsNotTriples) {
 }
 
 }  // namespace
-}  // namespace scancrew::components
+}  // namespace scancrew::waypoint_driver
