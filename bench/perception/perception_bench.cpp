@@ -15,9 +15,9 @@
 
 #include "bench/perception/sequence.hpp"
 #include "components/recorder/log_file.hpp"
-#include "components/stereo/depth_error.hpp"
-#include "components/stereo/stereo_depth.hpp"
-#include "components/stereo/stereo_matcher.hpp"
+#include "components/stereo_depth/depth_error.hpp"
+#include "components/stereo_depth/stereo_depth.hpp"
+#include "components/stereo_depth/stereo_matcher.hpp"
 #include "components/vio/frame_check.hpp"
 #include "components/vio/imu_buffer.hpp"
 #include "components/vio/stereo_odometry.hpp"
@@ -70,7 +70,7 @@ constexpr int64_t kSettleNs = 50'000'000;
 class Evaluator {
  public:
   Evaluator()
-      : stereo_config_(defaults<perception::StereoDepth>()),
+      : stereo_config_(defaults<stereo_depth::StereoDepth>()),
         vio_config_(defaults<vio::Vio>()),
         matcher_(stereo_config_.sgbm, stereo_config_.min_range_m, stereo_config_.max_range_m),
         odometry_(vio_config_.odometry),
@@ -119,7 +119,7 @@ class Evaluator {
 
   nlohmann::json result(double rpe_segment_m) const {
     nlohmann::json out;
-    const perception::DepthError d = depth_error_.result();
+    const stereo_depth::DepthError d = depth_error_.result();
     std::vector<eval::StampedPose> truth;
     for (const auto& [stamp, pose] : truth_) truth.push_back({stamp, pose});
     const auto e = eval::odometry_error(estimate_, truth, {.segment_length_m = rpe_segment_m});
@@ -213,9 +213,9 @@ class Evaluator {
     ++processed_;
   }
 
-  perception::StereoDepth::Config stereo_config_;
+  stereo_depth::StereoDepth::Config stereo_config_;
   vio::Vio::Config vio_config_;
-  perception::StereoMatcher matcher_;
+  stereo_depth::StereoMatcher matcher_;
   vio::StereoOdometry odometry_;
   vio::ImuBuffer imu_;
   std::deque<msg::StereoFrame> frames_;
@@ -223,7 +223,7 @@ class Evaluator {
   std::map<int64_t, std::vector<float>> depth_gt_;
   std::vector<float> depth_;
   std::vector<eval::StampedPose> estimate_;
-  perception::DepthErrorAccumulator depth_error_;
+  stereo_depth::DepthErrorAccumulator depth_error_;
   Timing depth_ms_, vio_ms_;
   int64_t last_imu_ns_ = 0, last_frame_ns_ = 0;
   uint64_t processed_ = 0, reported_ = 0, depth_frames_ = 0, untracked_ = 0;

@@ -8,7 +8,7 @@
 #include "executors/registry.hpp"
 #include "interfaces/eigen_conversions.hpp"
 
-namespace scancrew::perception {
+namespace scancrew::depth_mask {
 
 DepthMask::Config DepthMask::read_config(ParamReader& p) {
   Config c;
@@ -109,4 +109,4 @@ void DepthMask::on_depth(Sample<msg::DepthImage>&& depth) {
 
 SCANCREW_REGISTER_COMPONENT(DepthMask, "depth_mask")
 
-}  // namespace scancrew::perception
+}  // namespace scancrew::depth_mask

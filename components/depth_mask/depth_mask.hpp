@@ -20,7 +20,7 @@
 #include "interfaces/nav_msgs.hpp"
 #include "interfaces/sensor_msgs.hpp"
 
-namespace scancrew::perception {
+namespace scancrew::depth_mask {
 
 class DepthMask final : public Component {
  public:
@@ -60,4 +60,4 @@ class DepthMask final : public Component {
   uint64_t frames_ = 0, masked_ = 0, refused_ = 0;
 };
 
-}  // namespace scancrew::perception
+}  // namespace scancrew::depth_mask

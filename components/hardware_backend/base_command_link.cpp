@@ -12,7 +12,7 @@
 #include <system_error>
 #include <utility>
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 namespace {
 
@@ -143,4 +143,4 @@ Result<void, std::string> BaseCommandLink::send(uint32_t robot_id, int64_t stamp
   return make_unexpected(std::generic_category().message(errno));
 }
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

@@ -33,7 +33,7 @@
 
 #include "core/result.hpp"
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 inline constexpr size_t kVelocityDatagramBytes = 56;
 inline constexpr uint8_t kVelocityDatagramVersion = 1;
@@ -83,4 +83,4 @@ class BaseCommandLink {
   std::atomic<uint32_t> seq_{0};
 };
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

@@ -6,7 +6,7 @@
 #include <string>
 #include <system_error>
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 // group: the Unix group that grants access to this kind of device ("video", "dialout").
 inline std::string device_open_error(int err, const char* group) {
@@ -25,4 +25,4 @@ inline std::string device_open_error(int err, const char* group) {
   }
 }
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

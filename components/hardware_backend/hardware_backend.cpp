@@ -40,15 +40,15 @@ HardwareBackend::Config HardwareBackend::read_config(ParamReader& p) {
   p.optional_list("camera_mount_m", c.camera_mount_m, 3, {-10, 10});
   p.optional("imu_device", c.imu_device);
   p.optional("imu_baud", c.imu_baud, {1200, 4000000});
-  if (!hardware::SerialPort::supported_baud(c.imu_baud))
+  if (!SerialPort::supported_baud(c.imu_baud))
     p.report("imu_baud", std::to_string(c.imu_baud) + " is not a termios baud rate; allowed: " +
-                             hardware::SerialPort::supported_bauds());
+                             SerialPort::supported_bauds());
   p.optional("imu_poll_hz", c.imu_poll_hz, {1, 10000});
   p.optional("imu_max_line_bytes", c.imu_max_line_bytes, {32, 65536});
   p.optional("imu_silence_s", c.imu_silence_s, {0.001, 3600});
   p.optional("base_host", c.base_host);
   p.optional("base_port", c.base_port, {0, 65535});
-  if (!c.base_host.empty() && !hardware::BaseCommandLink::valid_ipv4(c.base_host))
+  if (!c.base_host.empty() && !BaseCommandLink::valid_ipv4(c.base_host))
     p.report("base_host", "'" + c.base_host +
                               "' is not an IPv4 address; allowed: a dotted quad such as "
                               "192.168.1.20, or '' (no base: cmd_vel is dropped)");
@@ -70,37 +70,36 @@ std::string HardwareBackend::base_name() const {
 
 Result<void, std::string> HardwareBackend::on_configure() {
   // every device is opened into a local first: an error returns with nothing left open
-  auto calibration = hardware::load_stereo_calibration(config_.calibration);
+  auto calibration = load_stereo_calibration(config_.calibration);
   if (!calibration) return make_unexpected("calibration: " + join(calibration.error(), "; "));
-  const hardware::CameraCalibration& cal = calibration->left;
+  const CameraCalibration& cal = calibration->left;
   if (config_.width != 0 && (config_.width != cal.width || config_.height != cal.height))
     return make_unexpected("width x height " + std::to_string(config_.width) + "x" +
                            std::to_string(config_.height) + " px differs from the image size " +
                            std::to_string(cal.width) + "x" + std::to_string(cal.height) +
                            " px of the calibration '" + config_.calibration +
                            "'; allowed: 0 x 0 (the calibration's) or the calibrated size");
-  hardware::StereoRigConfig rig_config;
+  StereoRigConfig rig_config;
   rig_config.left_device = config_.left_device;
   rig_config.right_device = config_.right_device;
   rig_config.api = config_.camera_api;
   rig_config.rate_hz = config_.rate_hz;
   rig_config.rectify_alpha = config_.rectify_alpha;
   rig_config.driver_buffer_frames = config_.camera_buffer_frames;
-  auto rig = hardware::StereoRig::open(rig_config, *calibration);
+  auto rig = StereoRig::open(rig_config, *calibration);
   if (!rig) return make_unexpected(rig.error());
 
-  hardware::SerialPort imu_port;
+  SerialPort imu_port;
   if (!config_.imu_device.empty()) {
-    auto port = hardware::SerialPort::open(config_.imu_device, config_.imu_baud);
+    auto port = SerialPort::open(config_.imu_device, config_.imu_baud);
     if (!port)
       return make_unexpected("imu_device '" + config_.imu_device + "': cannot open (" +
                              port.error() + ")");
     imu_port = std::move(port).value();
   }
-  hardware::BaseCommandLink base;
+  BaseCommandLink base;
   if (!config_.base_host.empty()) {
-    auto link = hardware::BaseCommandLink::open(config_.base_host,
-                                                static_cast<uint16_t>(config_.base_port));
+    auto link = BaseCommandLink::open(config_.base_host, static_cast<uint16_t>(config_.base_port));
     if (!link) return make_unexpected(base_name() + ": cannot open (" + link.error() + ")");
     base = std::move(link).value();
   }
@@ -132,9 +131,9 @@ void HardwareBackend::on_activate() {
 }
 
 void HardwareBackend::capture() {
-  const hardware::FrameStatus grabbed = rig_->grab();
+  const FrameStatus grabbed = rig_->grab();
   const int64_t stamp_ns = clock().now_ns();  // capture time: no hardware sync (see header)
-  if (grabbed != hardware::FrameStatus::kOk) {
+  if (grabbed != FrameStatus::kOk) {
     drop_frame(grabbed);
     return;
   }
@@ -149,8 +148,8 @@ void HardwareBackend::capture() {
     no_buffer_logged_ = true;
     return;
   }
-  const hardware::FrameStatus rectified = rig_->rectify_into(**loan);
-  if (rectified != hardware::FrameStatus::kOk) {
+  const FrameStatus rectified = rig_->rectify_into(**loan);
+  if (rectified != FrameStatus::kOk) {
     drop_frame(rectified);  // the loan goes back to the pool
     return;
   }
@@ -163,7 +162,7 @@ void HardwareBackend::capture() {
   if (stereo_.publish(std::move(*loan))) ++stats_.frames_published;
 }
 
-void HardwareBackend::drop_frame(hardware::FrameStatus status) {
+void HardwareBackend::drop_frame(FrameStatus status) {
   const auto i = static_cast<size_t>(status);
   ++stats_.frames_dropped[i];
   if (drop_logged_[i]) return;
@@ -171,8 +170,8 @@ void HardwareBackend::drop_frame(hardware::FrameStatus status) {
   SCANCREW_LOG_WARN(
       "%s: stereo frame dropped: %s (left_device '%s', right_device '%s'); further drops "
       "for this reason are counted and reported at shutdown",
-      qualified_name().c_str(), std::string(hardware::to_string(status)).c_str(),
-      config_.left_device.c_str(), config_.right_device.c_str());
+      qualified_name().c_str(), std::string(to_string(status)).c_str(), config_.left_device.c_str(),
+      config_.right_device.c_str());
 }
 
 void HardwareBackend::poll_imu() {
@@ -190,7 +189,7 @@ void HardwareBackend::poll_imu() {
       break;
     }
     imu_reader_.feed(std::string_view(imu_buffer_.data(), *n),
-                     [&](const hardware::ImuReading& r) { publish_imu(r, now_ns); });
+                     [&](const ImuReading& r) { publish_imu(r, now_ns); });
     if (*n < imu_buffer_.size()) break;
   }
   const double silent_s = static_cast<double>(now_ns - last_imu_ns_) * 1e-9;
@@ -203,7 +202,7 @@ void HardwareBackend::poll_imu() {
   }
 }
 
-void HardwareBackend::publish_imu(const hardware::ImuReading& reading, int64_t stamp_ns) {
+void HardwareBackend::publish_imu(const ImuReading& reading, int64_t stamp_ns) {
   last_imu_ns_ = stamp_ns;
   if (imu_silent_)
     SCANCREW_LOG_INFO("%s: imu_device '%s': IMU lines again", qualified_name().c_str(),
@@ -265,7 +264,6 @@ HardwareBackend::Stats HardwareBackend::stats() const {
 void HardwareBackend::on_shutdown() {
   if (!rig_) return;  // never configured
   const Stats s = stats();
-  using hardware::FrameStatus;
   const auto dropped = [&s](FrameStatus f) {
     return static_cast<unsigned long long>(s.frames_dropped[static_cast<size_t>(f)]);
   };

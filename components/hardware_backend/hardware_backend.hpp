@@ -74,9 +74,9 @@ class HardwareBackend final : public Component {
 
   struct Stats {
     uint64_t frames_published = 0;
-    std::array<uint64_t, hardware::kFrameStatusCount> frames_dropped{};  // by FrameStatus
+    std::array<uint64_t, kFrameStatusCount> frames_dropped{};  // by FrameStatus
     uint64_t frames_no_buffer = 0;  // grabbed but no free slot in the stereo pool
-    hardware::ImuLineStats imu_lines;
+    ImuLineStats imu_lines;
     uint64_t imu_published = 0, imu_no_buffer = 0, imu_read_errors = 0, imu_silences = 0;
     uint64_t commands_sent = 0, command_send_errors = 0, commands_without_base = 0;
     uint64_t commands_not_finite = 0;  // a NaN or infinite speed: a stop was sent instead
@@ -87,7 +87,7 @@ class HardwareBackend final : public Component {
   ~HardwareBackend() override;
 
   Stats stats() const;
-  const hardware::StereoRig* stereo_rig() const { return rig_.get(); }
+  const StereoRig* stereo_rig() const { return rig_.get(); }
 
  private:
   Result<void, std::string> on_configure() override;
@@ -95,22 +95,22 @@ class HardwareBackend final : public Component {
   void on_deactivate() override;
   void on_shutdown() override;
   void capture();
-  void drop_frame(hardware::FrameStatus status);
+  void drop_frame(FrameStatus status);
   void poll_imu();
-  void publish_imu(const hardware::ImuReading& reading, int64_t stamp_ns);
+  void publish_imu(const ImuReading& reading, int64_t stamp_ns);
   void forward(const msg::VelocityCommand& command);
   std::string base_name() const;
 
   Config config_;
-  std::unique_ptr<hardware::StereoRig> rig_;
-  hardware::SerialPort imu_port_;
-  hardware::ImuLineReader imu_reader_;
+  std::unique_ptr<StereoRig> rig_;
+  SerialPort imu_port_;
+  ImuLineReader imu_reader_;
   std::array<char, 4096> imu_buffer_{};  // one read(); refilled until the port is drained
-  hardware::BaseCommandLink base_;
+  BaseCommandLink base_;
   Publisher<msg::StereoFrame> stereo_;
   Publisher<msg::Imu> imu_;
   Stats stats_;
-  std::array<bool, hardware::kFrameStatusCount> drop_logged_{};
+  std::array<bool, kFrameStatusCount> drop_logged_{};
   bool imu_read_error_logged_ = false, send_error_logged_ = false, no_buffer_logged_ = false;
   bool imu_silent_ = false;
   int64_t last_imu_ns_ = 0;

@@ -4,7 +4,7 @@
 #include <charconv>
 #include <cmath>
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 std::optional<ImuReading> parse_imu_line(std::string_view line) {
   constexpr std::string_view kPrefix = "IMU,";
@@ -56,4 +56,4 @@ std::optional<ImuReading> ImuLineReader::end_line() {
   return r;
 }
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

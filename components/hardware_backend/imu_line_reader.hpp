@@ -27,7 +27,7 @@
 
 #include "interfaces/geometry.hpp"
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 struct ImuReading {
   msg::Vec3 linear_acceleration_mps2;
@@ -80,4 +80,4 @@ class ImuLineReader {
   ImuLineStats stats_;
 };
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

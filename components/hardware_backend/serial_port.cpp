@@ -11,7 +11,7 @@
 
 #include "components/hardware_backend/device_error.hpp"
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 namespace {
 
@@ -108,4 +108,4 @@ Result<size_t, std::string> SerialPort::read_available(std::span<char> buffer) {
   return make_unexpected(device_open_error(errno, "dialout"));
 }
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

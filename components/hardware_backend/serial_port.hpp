@@ -13,7 +13,7 @@
 
 #include "core/result.hpp"
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 class SerialPort {
  public:
@@ -43,4 +43,4 @@ class SerialPort {
   int fd_ = -1;
 };
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

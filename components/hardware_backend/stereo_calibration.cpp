@@ -8,7 +8,7 @@
 
 #include "executors/params_impl.hpp"
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 namespace {
 
@@ -239,4 +239,4 @@ Result<StereoCalibration, CalibrationErrors> load_stereo_calibration(const std::
   return parse_stereo_calibration(*text, path);
 }
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

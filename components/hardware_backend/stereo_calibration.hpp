@@ -20,7 +20,7 @@
 
 #include "core/result.hpp"
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 struct CameraCalibration {
   uint32_t width = 0, height = 0;  // image size the calibration was made at, px
@@ -45,4 +45,4 @@ Result<StereoCalibration, CalibrationErrors> load_stereo_calibration(const std::
 Result<StereoCalibration, CalibrationErrors> parse_stereo_calibration(const std::string& text,
                                                                       const std::string& label);
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

@@ -16,7 +16,7 @@
 
 #include "components/hardware_backend/device_error.hpp"
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 std::string_view to_string(FrameStatus status) {
   switch (status) {
@@ -269,4 +269,4 @@ FrameStatus StereoRig::rectify_into(msg::StereoFrame& frame) {
   return FrameStatus::kOk;
 }
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

@@ -27,7 +27,7 @@
 #include "core/result.hpp"
 #include "interfaces/sensor_msgs.hpp"
 
-namespace scancrew::hardware {
+namespace scancrew::hardware_backend {
 
 struct StereoRigConfig {
   std::string left_device, right_device;  // /dev/videoN, an image-sequence pattern, a URL...
@@ -74,4 +74,4 @@ class StereoRig {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace scancrew::hardware
+}  // namespace scancrew::hardware_backend

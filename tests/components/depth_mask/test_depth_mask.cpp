@@ -11,7 +11,7 @@
 #include "executors/registry.hpp"
 #include "interfaces/eigen_conversions.hpp"
 
-namespace scancrew::perception {
+namespace scancrew::depth_mask {
 namespace {
 
 class MaskPairs final : public Component {
@@ -173,4 +173,4 @@ components:
 }
 
 }  // namespace
-}  // namespace scancrew::perception
+}  // namespace scancrew::depth_mask

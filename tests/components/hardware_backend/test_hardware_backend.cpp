@@ -38,7 +38,7 @@
 namespace scancrew::hardware_backend {
 namespace {
 
-using hardware::FrameStatus;
+using hardware_backend::FrameStatus;
 using namespace std::chrono_literals;
 
 constexpr auto kWaitLimit = 2s;  // the longest any test waits for a device
@@ -521,14 +521,14 @@ TEST_F(HardwareBackendTest, SendsEachVelocityCommandAsOneDatagramAndAStopOnDeact
     (*loan)->header.stamp_ns = stamp;
     ASSERT_TRUE(cmd_vel.publish(std::move(*loan)));
   };
-  const auto next = [&base]() -> hardware::VelocityDatagram {
+  const auto next = [&base]() -> hardware_backend::VelocityDatagram {
     auto bytes = base.receive(std::chrono::duration_cast<std::chrono::milliseconds>(kWaitLimit));
     EXPECT_TRUE(bytes) << "no datagram";
     if (!bytes) return {};
-    EXPECT_EQ(bytes->size(), hardware::kVelocityDatagramBytes);
-    auto d = hardware::decode_velocity_datagram(*bytes);
-    EXPECT_TRUE(d) << (d ? "" : hardware::to_string(d.error()));
-    return d ? *d : hardware::VelocityDatagram{};
+    EXPECT_EQ(bytes->size(), hardware_backend::kVelocityDatagramBytes);
+    auto d = hardware_backend::decode_velocity_datagram(*bytes);
+    EXPECT_TRUE(d) << (d ? "" : hardware_backend::to_string(d.error()));
+    return d ? *d : hardware_backend::VelocityDatagram{};
   };
 
   command(0.5, -0.25, 0.125, 0.3, 123'456'789);
@@ -536,7 +536,7 @@ TEST_F(HardwareBackendTest, SendsEachVelocityCommandAsOneDatagramAndAStopOnDeact
   command(-1.0, 0, 0, -0.7, 987'654'321);
   run.launch->run();
 
-  const hardware::VelocityDatagram d1 = next(), stop1 = next(), d2 = next(), stop2 = next();
+  const hardware_backend::VelocityDatagram d1 = next(), stop1 = next(), d2 = next(), stop2 = next();
   EXPECT_EQ(d1.robot_id, 7u);
   EXPECT_EQ(d1.seq, 1u);
   EXPECT_EQ(d1.stamp_ns, 123'456'789);
@@ -556,7 +556,7 @@ TEST_F(HardwareBackendTest, SendsEachVelocityCommandAsOneDatagramAndAStopOnDeact
   EXPECT_FALSE(base.receive(0ms)) << "one datagram per command";
   command(std::nan(""), 0.5, 0, 0, 555);  // never reaches the motors: a stop instead
   run.launch->run();
-  const hardware::VelocityDatagram instead = next(), stop3 = next();
+  const hardware_backend::VelocityDatagram instead = next(), stop3 = next();
   EXPECT_EQ(instead.seq, 5u);
   EXPECT_EQ(instead.stamp_ns, 555);
   EXPECT_EQ(instead.vx_mps, 0.0);
@@ -586,10 +586,10 @@ TEST_F(HardwareBackendTest, RejectsBadParametersByKey) {
 }
 
 TEST(ImuLineReader, ParsesSplitLinesAndCountsMalformedAndOverlongOnes) {
-  hardware::ImuLineReader reader(40);
-  std::vector<hardware::ImuReading> out;
+  hardware_backend::ImuLineReader reader(40);
+  std::vector<hardware_backend::ImuReading> out;
   const auto feed = [&](std::string_view bytes) {
-    reader.feed(bytes, [&](const hardware::ImuReading& r) { out.push_back(r); });
+    reader.feed(bytes, [&](const hardware_backend::ImuReading& r) { out.push_back(r); });
   };
   feed("IMU,1,2,3,4,5,6\nIMU,0.5,");
   ASSERT_EQ(out.size(), 1u);
@@ -613,7 +613,7 @@ TEST(ImuLineReader, ParsesSplitLinesAndCountsMalformedAndOverlongOnes) {
 }
 
 TEST(VelocityDatagram, HasTheDocumentedLittleEndianLayoutAndRejectsOthers) {
-  hardware::VelocityDatagram d;
+  hardware_backend::VelocityDatagram d;
   d.robot_id = 0x01020304;
   d.seq = 0xA0B0C0D0;
   d.stamp_ns = -2;
@@ -621,7 +621,7 @@ TEST(VelocityDatagram, HasTheDocumentedLittleEndianLayoutAndRejectsOthers) {
   d.vy_mps = -0.5;
   d.vz_mps = 0.25;
   d.yaw_rate_radps = 3.0;
-  const auto bytes = hardware::encode_velocity_datagram(d);
+  const auto bytes = hardware_backend::encode_velocity_datagram(d);
   EXPECT_EQ(std::string(bytes.begin(), bytes.begin() + 4), "SCVC");
   EXPECT_EQ(bytes[4], 1);
   EXPECT_EQ(bytes[5] | bytes[6] | bytes[7], 0);
@@ -631,7 +631,7 @@ TEST(VelocityDatagram, HasTheDocumentedLittleEndianLayoutAndRejectsOthers) {
   EXPECT_EQ(bytes[23], 0xFF);
   EXPECT_EQ(bytes[31], 0x3F);  // 1.0 = 0x3FF0000000000000
   EXPECT_EQ(bytes[30], 0xF0);
-  auto back = hardware::decode_velocity_datagram(bytes);
+  auto back = hardware_backend::decode_velocity_datagram(bytes);
   ASSERT_TRUE(back);
   EXPECT_EQ(back->robot_id, d.robot_id);
   EXPECT_EQ(back->seq, d.seq);
@@ -643,18 +643,19 @@ TEST(VelocityDatagram, HasTheDocumentedLittleEndianLayoutAndRejectsOthers) {
 
   auto wrong = bytes;
   wrong[0] = 'X';
-  EXPECT_EQ(hardware::decode_velocity_datagram(wrong).error(), hardware::DatagramError::kBadMagic);
+  EXPECT_EQ(hardware_backend::decode_velocity_datagram(wrong).error(),
+            hardware_backend::DatagramError::kBadMagic);
   wrong = bytes;
   wrong[4] = 2;
-  EXPECT_EQ(hardware::decode_velocity_datagram(wrong).error(),
-            hardware::DatagramError::kUnsupportedVersion);
-  EXPECT_EQ(hardware::decode_velocity_datagram(std::span(bytes).first(40)).error(),
-            hardware::DatagramError::kWrongSize);
+  EXPECT_EQ(hardware_backend::decode_velocity_datagram(wrong).error(),
+            hardware_backend::DatagramError::kUnsupportedVersion);
+  EXPECT_EQ(hardware_backend::decode_velocity_datagram(std::span(bytes).first(40)).error(),
+            hardware_backend::DatagramError::kWrongSize);
 }
 
 TEST(StereoCalibration, ReadsTheExampleFile) {
-  auto c = hardware::load_stereo_calibration(SCANCREW_SOURCE_DIR
-                                             "/launch_cfg/calibration/example_stereo.yaml");
+  auto c = hardware_backend::load_stereo_calibration(SCANCREW_SOURCE_DIR
+                                                     "/launch_cfg/calibration/example_stereo.yaml");
   ASSERT_TRUE(c) << c.error().front();
   EXPECT_EQ(c->left.width, 640u);
   EXPECT_EQ(c->left.height, 480u);
@@ -676,7 +677,7 @@ right:
 R: [1, 0, 0, 0, 1, 0, 0, 0, 2]
 T: [0.26, 0, 0]
 )";
-  auto c = hardware::parse_stereo_calibration(text, "calib.yaml");
+  auto c = hardware_backend::parse_stereo_calibration(text, "calib.yaml");
   ASSERT_FALSE(c);
   std::string all;
   for (const auto& e : c.error()) all += e + "\n";

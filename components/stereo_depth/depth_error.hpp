@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace scancrew::perception {
+namespace scancrew::stereo_depth {
 
 struct DepthError {
   size_t reference_pixels = 0;  // ground truth valid and within [min_range, max_range]
@@ -33,4 +33,4 @@ class DepthErrorAccumulator {
   std::vector<double> abs_, rel_;
 };
 
-}  // namespace scancrew::perception
+}  // namespace scancrew::stereo_depth

@@ -1,9 +1,9 @@
-#include "components/stereo/depth_error.hpp"
+#include "components/stereo_depth/depth_error.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace scancrew::perception {
+namespace scancrew::stereo_depth {
 
 namespace {
 
@@ -52,4 +52,4 @@ DepthError depth_error(const std::vector<float>& estimate, const std::vector<flo
   return acc.result(outlier_rel);
 }
 
-}  // namespace scancrew::perception
+}  // namespace scancrew::stereo_depth

@@ -21,7 +21,7 @@
 #include "interfaces/nav_msgs.hpp"
 #include "interfaces/sensor_msgs.hpp"
 
-namespace scancrew::perception {
+namespace scancrew::stereo_depth {
 
 struct SgbmParams {
   // multiple of 16; 0: f·B/min_range (every depth in range, but the leftmost that many
@@ -81,4 +81,4 @@ class StereoDepth final : public Component {
   StereoDepthStats stats_;
 };
 
-}  // namespace scancrew::perception
+}  // namespace scancrew::stereo_depth

@@ -1,4 +1,4 @@
-#include "components/stereo/stereo_matcher.hpp"
+#include "components/stereo_depth/stereo_matcher.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
-namespace scancrew::perception {
+namespace scancrew::stereo_depth {
 
 struct StereoMatcher::Impl {
   SgbmParams params;
@@ -76,4 +76,4 @@ void StereoMatcher::compute(const uint8_t* left, const uint8_t* right, uint32_t 
   }
 }
 
-}  // namespace scancrew::perception
+}  // namespace scancrew::stereo_depth

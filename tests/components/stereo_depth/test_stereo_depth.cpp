@@ -6,13 +6,13 @@
 #include <cmath>
 #include <map>
 
-#include "components/stereo/depth_error.hpp"
-#include "components/stereo/stereo_depth.hpp"
-#include "components/stereo/stereo_matcher.hpp"
+#include "components/stereo_depth/depth_error.hpp"
+#include "components/stereo_depth/stereo_depth.hpp"
+#include "components/stereo_depth/stereo_matcher.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 
-namespace scancrew::perception {
+namespace scancrew::stereo_depth {
 namespace {
 
 // Pairs each depth image with the ground truth of the same stamp.
@@ -207,4 +207,4 @@ components:
 }
 
 }  // namespace
-}  // namespace scancrew::perception
+}  // namespace scancrew::stereo_depth

@@ -7,9 +7,9 @@
 #include <memory>
 #include <vector>
 
-#include "components/stereo/stereo_depth.hpp"
+#include "components/stereo_depth/stereo_depth.hpp"
 
-namespace scancrew::perception {
+namespace scancrew::stereo_depth {
 
 class StereoMatcher {
  public:
@@ -33,4 +33,4 @@ class StereoMatcher {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace scancrew::perception
+}  // namespace scancrew::stereo_depth

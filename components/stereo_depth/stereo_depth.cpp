@@ -1,13 +1,13 @@
-#include "components/stereo/stereo_depth.hpp"
+#include "components/stereo_depth/stereo_depth.hpp"
 
 #include <cmath>
 
-#include "components/stereo/stereo_matcher.hpp"
+#include "components/stereo_depth/stereo_matcher.hpp"
 #include "executors/log.hpp"
 #include "executors/registry.hpp"
 #include "interfaces/eigen_conversions.hpp"
 
-namespace scancrew::perception {
+namespace scancrew::stereo_depth {
 
 StereoDepth::Config StereoDepth::read_config(ParamReader& p) {
   Config c;
@@ -148,4 +148,4 @@ void StereoDepth::on_deactivate() {
 
 SCANCREW_REGISTER_COMPONENT(StereoDepth, "stereo_depth")
 
-}  // namespace scancrew::perception
+}  // namespace scancrew::stereo_depth

@@ -1,0 +1,68 @@
+#pragma once
+
+// LaunchBuilder: reads a launch file into a Launch (launch_builder.cpp) and composes it
+// (launch_compose.cpp). Private to executors/: Launch::from_file and from_string use it.
+
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "executors/launch.hpp"
+#include "executors/params_impl.hpp"
+
+namespace scancrew {
+
+// Reads a launch file into a Launch; collects every error it finds.
+class LaunchBuilder {
+ public:
+  LaunchBuilder(std::string file, LaunchOptions options)
+      : file_(std::move(file)), options_(std::move(options)) {}
+
+  Result<std::unique_ptr<Launch>, Launch::Errors> build(YAML::Node root);
+
+  Result<std::unique_ptr<Launch>, Launch::Errors> fail(std::string message);
+
+ private:
+  using RobotSpec = TeamMember;
+
+  struct ComponentSpec {
+    std::string name, type;
+    bool per_robot = true;
+    std::vector<std::string> processes;  // the commands that compose it (LaunchOptions::process)
+    std::string group_name;              // empty: a group of its own
+    CallbackGroup::Type group_type = CallbackGroup::Type::kMutuallyExclusive;
+    YAML::Node params;
+    std::string path;  // "components[i]"
+    std::map<std::string, std::string> remaps;
+    std::map<std::string, PortQos> qos;
+  };
+
+  std::string out_dir() const;
+  void apply_overrides(YAML::Node& root);
+  void merge(const ParamReader& reader);
+  void read_settings(const YAML::Node& root, LaunchSettings& s);
+  void read_robots(const YAML::Node& node, size_t run_robots);
+  void read_robot_list(const YAML::Node& node);
+  static bool valid_name(const std::string& s);
+  void read_components(const YAML::Node& node);
+  void read_processes(const YAML::Node& c, ComponentSpec& spec, ParamReader& r);
+  void known_subkeys(const YAML::Node& c, const std::string& path,
+                     std::initializer_list<std::string_view> allowed);
+  void read_group(const YAML::Node& node, ComponentSpec& spec);
+  void read_remaps(const YAML::Node& node, ComponentSpec& spec);
+  void read_qos(const YAML::Node& node, ComponentSpec& spec);
+  void compose(Launch& launch);
+
+  std::string file_;
+  LaunchOptions options_;
+  std::vector<std::string> errors_;
+  std::set<std::string> top_known_;
+  std::string compute_time_;  // run.compute_time as the file (or --set) gives it; "" unset
+  std::vector<RobotSpec> robots_;
+  std::vector<ComponentSpec> specs_;
+};
+
+}  // namespace scancrew
