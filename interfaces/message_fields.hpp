@@ -21,7 +21,8 @@ namespace scancrew::msg {
 // refuses data of another version.
 // 2: TsdfPatch carries the compact patch payload instead of a dense voxel array.
 // 5: RobotState says whether the robot backs off and which teammate holds it.
-inline constexpr uint32_t kMessageFormatVersion = 5;
+// 6: ReplanRequest.
+inline constexpr uint32_t kMessageFormatVersion = 6;
 
 // The binding names only label the members; their order is the declaration order.
 #define SCANCREW_MESSAGE_FIELDS(Type, ...)      \
@@ -59,6 +60,7 @@ SCANCREW_MESSAGE_FIELDS(Maneuver, header, kind, aside, because_of_robot)
 SCANCREW_MESSAGE_FIELDS(RobotState, header, T_world_body, velocity_mps, mode, plan_id,
                         current_cluster, path_index, steps_remaining, path_length_m, backing_off,
                         held_by_robot)
+SCANCREW_MESSAGE_FIELDS(ReplanRequest, header, reason, because_of_robot, after_plan_id, repeated)
 SCANCREW_MESSAGE_FIELDS(MissionStatus, header, phase, ise_remaining, coverage_estimate, elapsed_s)
 SCANCREW_MESSAGE_FIELDS(StepMark, robot_id, topic_key, seq)
 SCANCREW_MESSAGE_FIELDS(StepSync, header, t_ns, stop, marks)
@@ -78,9 +80,10 @@ SCANCREW_MESSAGE_FIELDS(ViewpointClusters, header, map_version, clusters, ise_co
 // Every message type that can cross a process boundary (recordings, links between robots).
 template <class... T>
 struct TypeList {};
-using WireMessages = TypeList<StereoFrame, Imu, DepthImage, Odometry, LocalPath, TeamPlan,
-                              VelocityCommand, Maneuver, RobotState, MissionStatus, TsdfPatch,
-                              PatchList, PatchRequest, IseSet, ViewpointClusters, StepSync>;
+using WireMessages =
+    TypeList<StereoFrame, Imu, DepthImage, Odometry, LocalPath, TeamPlan, VelocityCommand, Maneuver,
+             RobotState, ReplanRequest, MissionStatus, TsdfPatch, PatchList, PatchRequest, IseSet,
+             ViewpointClusters, StepSync>;
 
 // Calls fn.template operator()<T>() for the wire message whose kTypeName is type_name;
 // false when there is none.

@@ -77,7 +77,8 @@ struct Maneuver {
 };
 
 // A robot's state for its team (traffic policy, redundancy check, reallocation) and for the
-// high-level planner (kIdle: reallocate; kPlanning: a replanning request).
+// high-level planner (kIdle: reallocate). kPlanning: waiting for the plan its ReplanRequest
+// asked for.
 struct RobotState {
   static constexpr const char* kTypeName = "scancrew/RobotState";
   enum class Mode : uint8_t {
@@ -123,6 +124,43 @@ inline const char* to_string(RobotState::Mode mode) {
       return "done";
     case RobotState::Mode::kLost:
       return "lost";
+  }
+  return "?";
+}
+
+// A robot's request for a new tour, with why: the "wait for high-level re-planning" of
+// Algorithms 1, 3 and 6 (thesis 2.5.3, 3.5.2, 4.5.2). The low-level planner sends it on
+// `replan_request` (again after replan_timeout_s unanswered); the high-level planner answers
+// with a plan newer than after_plan_id.
+struct ReplanRequest {
+  static constexpr const char* kTypeName = "scancrew/ReplanRequest";
+  enum class Reason : uint8_t {
+    kUtility,       // UtilityCheck: c_thres of the tour's ISEs are done (Alg. 1 line 5)
+    kObstacle,      // ObstacleCheck: emergency stop (Alg. 1 line 15)
+    kRedundancy,    // RedundancyCheck: the next cluster is a teammate's (Alg. 6 line 5)
+    kTrafficStuck,  // TrafficPolicy: held longer than max_wait_s (not in the thesis)
+    kInfeasible,    // no path to the tour's goals (Alg. 1 line 10, else branch), or the
+                    // last one skipped
+  };
+  Header header;
+  Reason reason = Reason::kUtility;
+  uint32_t because_of_robot = 0;  // the teammate involved (kRedundancy, kTrafficStuck), else 0
+  uint64_t after_plan_id = 0;     // the newest plan the robot had seen
+  bool repeated = false;          // sent again: the first went unanswered
+};
+
+inline const char* to_string(ReplanRequest::Reason reason) {
+  switch (reason) {
+    case ReplanRequest::Reason::kUtility:
+      return "utility";
+    case ReplanRequest::Reason::kObstacle:
+      return "obstacle";
+    case ReplanRequest::Reason::kRedundancy:
+      return "redundancy";
+    case ReplanRequest::Reason::kTrafficStuck:
+      return "traffic_stuck";
+    case ReplanRequest::Reason::kInfeasible:
+      return "infeasible";
   }
   return "?";
 }

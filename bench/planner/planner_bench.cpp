@@ -162,7 +162,8 @@ struct Tally {
   std::vector<double> ms;
   std::vector<double> roadmap_ms;  // the queries that needed the roadmap (not a straight motion)
   size_t ok = 0, direct = 0, checked = 0, colliding = 0;
-  std::vector<size_t> by_status = std::vector<size_t>(7, 0);
+  std::vector<size_t> by_status =
+      std::vector<size_t>(static_cast<size_t>(PlanStatus::kBadInput) + 1, 0);
   double length_m = 0;
   size_t through_unknown = 0, colliding_known = 0;
   // strict: a planner on the same map with unknown space occupied, to tell paths that

@@ -136,6 +136,12 @@ Result<void, std::string> HighLevelPlanner::on_configure() {
     create_subscription<msg::RobotState>(
         ns + "robot_state", {.depth = 4},
         [this, i](Sample<msg::RobotState>&& s) { on_robot_state(i, *s); });
+    // after the state: the step executor delivers in subscription order, and a request
+    // is planned on the pose of the state sent with it
+    create_subscription<msg::ReplanRequest>(
+        ns + "replan_request", {.depth = 4},
+        [this, i](Sample<msg::ReplanRequest>&& s) { on_replan_request(i, *s); });
+    mark_input_optional(ns + "replan_request");  // a graph without low-level planners
   }
   last_.robots.resize(members_.size());
   for (size_t i = 0; i < members_.size(); ++i) last_.robots[i].robot_id = members_[i].id;
@@ -209,12 +215,21 @@ void HighLevelPlanner::on_robot_state(size_t member, const msg::RobotState& stat
   if (!clusters_ || state.mode == before) return;
   // only the robots this instance plans for: all (centralized) or its own (per robot)
   if (per_robot_ && members_[member].id != robot_id()) return;
-  if (state.mode == Mode::kPlanning) {
-    plan(state.header.stamp_ns, std::nullopt);
-  } else if (state.mode == Mode::kIdle) {
+  if (state.mode == Mode::kIdle) {
     const bool realloc = config_.algorithm == "tsga";
     plan(state.header.stamp_ns, realloc ? std::optional<size_t>(member) : std::nullopt);
   }
+}
+
+void HighLevelPlanner::on_replan_request(size_t member, const msg::ReplanRequest& request) {
+  if (!clusters_ || lost(member)) return;
+  // only the robots this instance plans for: all (centralized) or its own (per robot)
+  if (per_robot_ && members_[member].id != robot_id()) return;
+  ++stats_.requests;
+  SCANCREW_LOG_DEBUG("%s: robot %u asks for a new plan (%s%s)", qualified_name().c_str(),
+                     members_[member].id, to_string(request.reason),
+                     request.repeated ? ", again" : "");
+  plan(request.header.stamp_ns, std::nullopt);
 }
 
 std::vector<size_t> HighLevelPlanner::plan_members() const {

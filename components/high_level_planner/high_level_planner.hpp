@@ -20,8 +20,8 @@
 //   mode kIdle while the planner holds a plan for it: asynchronous reallocation (3.5.1): the
 //     robot gets the clusters no teammate holds (plan_for_idle); centralized tsga only, as
 //     in the thesis; dist_tsga replans the whole allocation instead;
-//   mode kPlanning (the low-level planner asks for an update, Algorithms 1/3/6): a new plan
-//     from the latest clusters at once;
+//   (`/<namespace>/replan_request`, msg::ReplanRequest: the low-level planner asks for an
+//     update, Algorithms 1/3/6, with its reason): a new plan from the latest clusters at once;
 //   mode kLost (the dds_bridge's word for a teammate whose process died): the member is left
 //     out of the plans (plan_robots(): no tour, an empty sequence in the TeamPlan) and the
 //     whole team is re-planned at once, its clusters going to the others; every instance
@@ -123,6 +123,7 @@ class HighLevelPlanner final : public Component {
     uint64_t plans = 0;          // published
     uint64_t reallocations = 0;  // to idle robots
     uint64_t lost_replans = 0;   // re-plans for a member lost or back
+    uint64_t requests = 0;       // replanning requests answered
     uint64_t skipped = 0;        // updates refused (bad input) or throttled
     double mean_ms = 0, max_ms = 0;
     // inter_cluster_distance: roadmap
@@ -148,6 +149,7 @@ class HighLevelPlanner final : public Component {
   void on_deactivate() override;
   void on_clusters(const msg::ViewpointClusters& clusters);
   void on_robot_state(size_t member, const msg::RobotState& state);
+  void on_replan_request(size_t member, const msg::ReplanRequest& request);
   // Whether the member's latest state is kLost (never this per-robot instance's own robot).
   bool lost(size_t member) const;
   // A teammate idle for idle_teammate_s at plan_stamp_ns_ (dist_tsga, never the own robot).

@@ -51,10 +51,10 @@
 #include <string_view>
 #include <vector>
 
+#include "components/low_level_planner/recovery.hpp"
 #include "components/low_level_planner/tour.hpp"
 #include "core/motion/checks_config.hpp"
 #include "core/motion/motion_planner.hpp"
-#include "core/motion/replan_request.hpp"
 #include "core/motion/stall_watch.hpp"
 #include "core/motion/traffic_policy.hpp"
 #include "executors/component.hpp"
@@ -76,15 +76,15 @@ using motion::PlanResult;
 using motion::PlanStats;
 using motion::PlanStatus;
 using motion::RedundancyResult;
-using motion::ReplanReason;
 using motion::RobotKind;
 using motion::StallConfig;
-using motion::StallWatch;
 using motion::TrafficAction;
 using motion::TrafficAgent;
 using motion::TrafficDecision;
 using motion::TrafficPolicy;
 using motion::UtilityStatus;
+
+using ReplanReason = msg::ReplanRequest::Reason;
 
 class LowLevelPlanner final : public Component {
  public:
@@ -110,8 +110,8 @@ class LowLevelPlanner final : public Component {
     // 0: skip at once.
     double goal_nudge_max_m = 0.3;
     // stuck_backoff_m > 0 (not in the thesis): after max_consecutive_failures queries in a
-    // row without a path (no_path) from one place (within backoff_max_m of where the run
-    // of failures began), whatever the goals and tours, the roadmap is dropped and the
+    // row without a path (timeout or planner_error) from one place (within backoff_max_m of where
+    // the run of failures began), whatever the goals and tours, the roadmap is dropped and the
     // robot backs off (escape_pose) at least stuck_backoff_m times the number of such
     // rounds there, up to backoff_max_m; then it plans to the same goal again. A path
     // found ends the count. A UAV pressed in
@@ -174,6 +174,20 @@ class LowLevelPlanner final : public Component {
   const Stats& stats() const { return stats_; }
   msg::RobotState::Mode mode() const { return mode_; }
 
+  // What the planner does with its tour. Transitions go through enter() only; tick() acts
+  // by the state. The mode the team sees (RobotState::mode) says more (waiting for a map,
+  // held by the traffic policy, stepping aside) and is set as the tick goes.
+  enum class State : uint8_t {
+    kIdle,          // no tour, or its goals are done: holds its place, steps aside for a
+                    // teammate (make_way); a new plan is taken at once
+    kToPlan,        // the tour's next goal needs a path: the follow checks, then LazyPRM*
+    kFollowing,     // a local path to the goal is out: goal reached, path re-check,
+                    // obstacle, traffic, stall
+    kBackingOff,    // a path to a free pose nearby is out (Recovery); reached: kToPlan
+    kAwaitingPlan,  // a request for a new tour is out (Request); a new plan answers it
+  };
+  State state() const { return state_; }
+
  private:
   struct Teammate {
     uint32_t id = 0;
@@ -193,8 +207,12 @@ class LowLevelPlanner final : public Component {
   // Steps of one tick, in the order of Algorithms 1, 3 and 6.
   bool follow_checks();  // redundancy, utility: true when a new plan was asked for
   void plan_to_goal();
-  // stuck_backoff_m: counts a no_path failure from `start`; true when the robot backs off
-  // because of it (the path to the escape pose is out).
+  // A path found: sent to the tracker, unless the goal is over its detour budget.
+  void follow_path(const PlanRequest& request, const std::vector<msg::Waypoint>& path);
+  // None: back off (start in collision, stuck), nudge the goal, or skip it.
+  void plan_failed(const PlanRequest& request, const PlanResult& r);
+  // stuck_backoff_m: counts a failure without a path (timeout, planner_error) from `start`; true
+  // when the robot backs off because of it (the path to the escape pose is out).
   bool back_off_if_stuck(const msg::Waypoint& start);
   // Sends the two-waypoint path from start to the free pose `escape` (a back-off).
   void send_backoff(const msg::Waypoint& start, const msg::Waypoint& escape);
@@ -204,8 +222,15 @@ class LowLevelPlanner final : public Component {
   // The nearest free pose to `goal` (is_free), same yaw, within goal_nudge_max_m.
   std::optional<msg::Waypoint> nudged_goal(const msg::Waypoint& goal) const;
   void park_lost_teammates();  // the lost teammates' bodies to the motion planner
-  void watch_motion();         // goal reached, obstacle, traffic
-  void watch_stall();          // no progress on the path: plan again, then skip the goal
+  // A path out: the back-off's end, else the goal, the path re-check, an obstacle ahead and
+  // the traffic policy, in that order (the first three end the tick's watch when they act).
+  void watch_motion();
+  void watch_backoff();   // the escape pose reached: plan to the goal again
+  bool at_goal();         // GoalReached: the next goal (or the plan held back)
+  bool path_blocked();    // a newer map blocks the path ahead: plan again from here
+  bool obstacle_ahead();  // ObstacleCheck: stop, ask for a new plan
+  void watch_traffic();   // TrafficPolicy: proceed, wait, step aside, resume, give up
+  void watch_stall();     // no progress on the path: plan again, then skip the goal
   // At a path to the current goal (`planned_m` long, the goal `left_m` away in a straight
   // line): the first records the budget; a later one is over it when the way travelled
   // since the first plus left_m (a lower bound of the rest: a sampling planner's path
@@ -220,12 +245,18 @@ class LowLevelPlanner final : public Component {
   void make_way();  // an idle robot steps aside for a teammate it blocks
   void take(const msg::PathSequence& sequence, uint64_t plan_id);
   void request_replan(ReplanReason reason, uint32_t because_of, const std::string& detail);
+  void send_request(bool repeated);
   void send_maneuver(msg::Maneuver::Kind kind, const msg::Waypoint& aside, uint32_t because);
   void publish_state();
   size_t remaining_ises() const;
   TrafficAgent self_agent() const;
   double now_s();
   void log_once(const std::string& key, const std::string& message);
+  // The one place the state changes (logged at debug level).
+  void enter(State next);
+  // A local path is out to the tracker (to the goal or a back-off; when awaiting a plan,
+  // one was out when the request went).
+  bool path_is_out() const;
   // At debug level (SCANCREW_LOG=debug): each change of the traffic decision, with why.
   void log_traffic(const TrafficDecision& d);
 
@@ -244,37 +275,26 @@ class LowLevelPlanner final : public Component {
   std::optional<Tour> tour_;
   std::optional<std::pair<msg::PathSequence, uint64_t>> pending_;  // sequence, plan id
   uint64_t last_plan_id_ = 0;                                      // the newest plan seen
-  std::optional<uint64_t> awaiting_after_;  // a request is out: take the first plan newer
-  double awaiting_since_s_ = 0;
-  bool path_sent_ = false;                    // a local path to the current goal is out
-  std::vector<msg::Waypoint> local_path_;     // the last one sent (the traffic policy's)
-  bool stopped_ = false;                      // an emergency stop is in force
-  bool map_unchecked_ = false;                // a snapshot newer than the path's last check
-  std::optional<msg::Waypoint> backing_off_;  // the free pose it is backing off to
-  uint32_t held_by_ = 0;     // the teammate the traffic policy yields to this tick (0: none)
-  msg::Vec3 backoff_start_;  // from where
+  State state_ = State::kIdle;
+  struct Request {               // kAwaitingPlan: the request out
+    uint64_t after_plan_id = 0;  // the first plan newer than this answers it
+    double since_s = 0;          // sent (again) at
+    bool path_out = false;       // a local path was out when it went
+    ReplanReason reason = ReplanReason::kUtility;
+    uint32_t because_of_robot = 0;
+    bool unsent = true;  // sent at the end of the tick (send_request)
+  };
+  std::optional<Request> request_;
+  struct Backoff {  // kBackingOff: the free pose it backs off to, and from where
+    msg::Waypoint escape;
+    msg::Vec3 from;
+  };
+  std::optional<Backoff> backoff_;
+  Recovery recovery_;
+  std::vector<msg::Waypoint> local_path_;  // the last one sent (the traffic policy's)
+  bool map_unchecked_ = false;             // a snapshot newer than the path's last check
+  uint32_t held_by_ = 0;  // the teammate the traffic policy yields to this tick (0: none)
   int consecutive_failures_ = 0;
-  // stuck_backoff_m: the run of no_path failures from one spot, and the rounds there
-  struct StuckSpot {
-    Eigen::Vector3d at = Eigen::Vector3d::Zero();
-    int failures = 0;
-    int rounds = 0;
-  };
-  std::optional<StuckSpot> stuck_;
-  StallWatch stall_;
-  struct StallGoal {  // where the last stall was: plan, goal index, robot position
-    uint64_t plan_id = 0;
-    size_t goal = 0;
-    Eigen::Vector3d at = Eigen::Vector3d::Zero();
-  };
-  std::optional<StallGoal> stall_goal_;
-  struct GoalCost {  // the detour budget's record of the current goal
-    uint64_t plan_id = 0;
-    size_t goal = 0;
-    double travelled_at_m = 0;  // stats_.path_length_m at its first path
-    double first_m = 0;         // that path's length
-  };
-  std::optional<GoalCost> goal_cost_;
   uint64_t local_path_id_ = 0;
   msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
   msg::Maneuver::Kind last_maneuver_ = msg::Maneuver::Kind::kResume;
@@ -290,6 +310,7 @@ class LowLevelPlanner final : public Component {
   Publisher<msg::RobotState> state_pub_;
   Publisher<msg::TeamPlan> tour_pub_;
   Publisher<msg::Odometry> skipped_pub_;
+  Publisher<msg::ReplanRequest> request_pub_;
   std::vector<std::string> logged_;
   Stats stats_;
 };

@@ -95,8 +95,10 @@ std::string_view to_string(PlanStatus s) {
   switch (s) {
     case PlanStatus::kOk:
       return "ok";
-    case PlanStatus::kNoPath:
-      return "no_path";
+    case PlanStatus::kTimeout:
+      return "timeout";
+    case PlanStatus::kPlannerError:
+      return "planner_error";
     case PlanStatus::kStartInCollision:
       return "start_in_collision";
     case PlanStatus::kGoalInCollision:
@@ -587,7 +589,12 @@ PlanResult MotionPlanner::Impl::plan(const PlanRequest& q) {
                     q.start.position.x, q.start.position.y, q.start.position.z, q.goal.position.x,
                     q.goal.position.y, q.goal.position.z, r.stats.solve_ms,
                     status.asString().c_str(), error.empty() ? "" : ": ", error.c_str());
-      PlanResult f = fail(PlanStatus::kNoPath, buf, q.goal);
+      // OMPL's TIMEOUT (ours when the roadmap holds no path), APPROXIMATE or no solution
+      // path: out of time; anything else: OMPL refused the query or threw
+      const bool timeout = error.empty() && (status == ob::PlannerStatus::TIMEOUT ||
+                                             status == ob::PlannerStatus::APPROXIMATE_SOLUTION ||
+                                             status == ob::PlannerStatus::EXACT_SOLUTION);
+      PlanResult f = fail(timeout ? PlanStatus::kTimeout : PlanStatus::kPlannerError, buf, q.goal);
       f.stats = r.stats;
       f.stats.collision_checks = map.checks() - checks0;
       f.stats.total_ms = ms_since(t0);

@@ -29,8 +29,8 @@
 // (kBadInput), no map or a map older than the pose by more than max_map_age_s
 // (kMapStale), a start whose body collides (kStartInCollision), a goal in unknown space
 // with unknown_is_occupied (kGoalUnknown) or whose body collides (kGoalInCollision), no
-// path within planner_time_limit_s (kNoPath). A failing status is logged once per
-// (status, goal); the caller decides (replan, wait, back off).
+// path within planner_time_limit_s (kTimeout), OMPL refusing the query (kPlannerError). A failing
+// status is logged once per (status, goal); the caller decides (replan, wait, back off).
 //
 // Thread safety: none; one thread maps and plans. OMPL, FCL and OctoMap stay in the .cpp.
 
@@ -50,7 +50,12 @@ namespace scancrew::motion {
 
 enum class PlanStatus : uint8_t {
   kOk,
-  kNoPath,            // none found within the time limit (or the roadmap proved none)
+  // None found within planner_time_limit_s. LazyPRM* is probabilistically complete: it
+  // never proves that no path exists (OMPL's INFEASIBLE), so no path is a timeout.
+  kTimeout,
+  // OMPL refused the query or failed (its own INVALID_START / INVALID_GOAL, an
+  // unrecognised goal, an exception): the message gives OMPL's status.
+  kPlannerError,
   kStartInCollision,  // the body at the start overlaps an obstacle (unknown included)
   kGoalInCollision,   // the body at the goal overlaps an obstacle
   kGoalUnknown,       // the goal lies in unknown space and unknown_is_occupied

@@ -9,14 +9,14 @@
 #include "components/low_level_planner/planner_params.hpp"
 #include "core/motion/checks_config.hpp"
 #include "core/motion/motion_planner.hpp"
-#include "core/motion/replan_request.hpp"
 #include "executors/params.hpp"
+#include "interfaces/nav_msgs.hpp"
 
 namespace scancrew::low_level_planner {
 namespace {
 
 using motion::MotionPlanner;
-using motion::ReplanReason;
+using ReplanReason = msg::ReplanRequest::Reason;
 
 TEST(ChecksConfig, DefaultsFollowTheThesisTablesPerRobotKind) {
   const ChecksConfig g = ChecksConfig::for_kind(RobotKind::kGround);

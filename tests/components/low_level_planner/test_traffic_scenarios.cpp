@@ -861,7 +861,7 @@ TEST(TrafficScenarios, AGoalWhoseWayGrowsPastTheDetourBudgetIsSkipped) {
 
 TEST(TrafficScenarios, ARobotWithNoPathOutBacksOffFartherAtEachRoundThenGivesUp) {
   // shut in a closet, its goals outside: once the walls are mapped every query fails
-  // (no_path). Six goals: a round is max_consecutive_failures (3) failed queries
+  // (timeout). Six goals: a round is max_consecutive_failures (3) failed queries
   std::vector<Pose4> outside;
   outside.reserve(6);
   for (int k = 0; k < 6; ++k) outside.push_back({4.0, -1.0 + 0.4 * k, 0, 0});
