@@ -13,6 +13,10 @@ int main(int argc, char** argv) {
   namespace cli = scancrew::cli;
   CLI::App app{"scancrew: multi-robot 3D reconstruction (runtime, simulator, planners)"};
   app.require_subcommand(1);
+  bool parse_only = false;
+  app.add_flag("--parse-only", parse_only,
+               "check the command line and stop (exit 0 when it parses; runs nothing): "
+               "scripts/check_results_commands.sh checks the docs' commands with it");
   cli::CommandTable table;
   cli::add_run_commands(app, table);
   cli::add_sweep_command(app, table);
@@ -34,5 +38,5 @@ int main(int argc, char** argv) {
   cli::add_explore_command(*bench, table);
 
   CLI11_PARSE(app, argc, argv);
-  return table.run_parsed();
+  return parse_only ? 0 : table.run_parsed();
 }
