@@ -6,7 +6,6 @@
 #include <fstream>
 #include <map>
 
-#include "components/tsdf_mapper/tsdf_mapper.hpp"
 #include "core/io/ply.hpp"
 #include "eval/team_reachable.hpp"
 #include "executors/log.hpp"
@@ -64,23 +63,20 @@ std::vector<MeshScore> meshes_in(const fs::path& dir, fs::file_time_type since) 
 
 // The meshes of the launch's mappers, by place: a robot's namespace, or "station" for a
 // centralized mapper; "place/component" where one place has two mappers.
-std::vector<MeshScore> mapper_meshes(const Launch& launch, const MissionMonitor& monitor) {
+std::vector<MeshScore> mapper_meshes(const RunSummary& summary, const MissionMonitor& monitor) {
   std::vector<MeshScore> scores;
   std::vector<std::string> component_names;
-  for (const auto& c : launch.components()) {
-    const auto* mapper = dynamic_cast<const tsdf_mapper::TsdfMapper*>(c.get());
-    if (mapper == nullptr) continue;
+  for (const RunSummary::Map& map : summary.maps) {
     MeshScore s;
     // a centralized mapper is the ground station's; the others are a robot's
     s.robot_ns = "station";
-    if (mapper->config().mode != "centralized")
+    if (map.mode != "centralized")
       for (const auto& r : monitor.robots())
-        if (r.id == mapper->robot_id()) s.robot_ns = r.ns;
-    s.mesh_path = mapper->config().mesh_path;
-    s.octomap_path = mapper->config().octomap_path;
-    s.voxel_m = mapper->config().tsdf.voxel_m;
-    const std::string& name = mapper->qualified_name();
-    component_names.push_back(name.substr(name.rfind('/') + 1));
+        if (r.id == map.robot_id) s.robot_ns = r.ns;
+    s.mesh_path = map.mesh_path;
+    s.octomap_path = map.octomap_path;
+    s.voxel_m = map.voxel_m;
+    component_names.push_back(map.component);
     scores.push_back(std::move(s));
   }
   // two mappers of one place (a planning map and a finer reconstruction map) go by
@@ -97,7 +93,7 @@ std::vector<MeshScore> mapper_meshes(const Launch& launch, const MissionMonitor&
 
 std::vector<MeshScore> score_meshes(const Launch& launch, const MissionMonitor& monitor,
                                     fs::file_time_type started) {
-  std::vector<MeshScore> scores = mapper_meshes(launch, monitor);
+  std::vector<MeshScore> scores = mapper_meshes(launch.summary(), monitor);
   if (scores.empty()) scores = meshes_in(launch.out_dir(), started);
   const std::string& scene_path = monitor.config().scene;
   if (scene_path.empty()) return scores;

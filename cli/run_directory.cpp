@@ -8,9 +8,6 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/mesh_scores.hpp"
-#include "components/low_level_planner/low_level_planner.hpp"
-#include "components/team_simulator/team_simulator.hpp"
-#include "components/tsdf_mapper/tsdf_mapper.hpp"
 #include "executors/log.hpp"
 #include "executors/trace.hpp"
 #include "report/run_files.hpp"
@@ -24,7 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 using mission_monitor::MissionMonitor;
 using Json = nlohmann::ordered_json;
-using Planners = std::map<uint32_t, const low_level_planner::LowLevelPlanner*>;
+using Planners = std::map<uint32_t, RunSummary::Planner>;
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
@@ -42,9 +39,8 @@ Json per_goal(double x, uint64_t goals) {
 // time goes"): the mean share of each activity over the robots, plan churn (tours per goal
 // reached), metres per goal, coverage per metre and per minute, the times to 50 / 90 / 95 %
 // coverage (the monitor's estimate), and what each place computed.
-void add_exploration_metrics(
-    Json& m, const Launch& launch, const MissionMonitor& monitor,
-    const std::map<uint32_t, const low_level_planner::LowLevelPlanner*>& planners, double sim_s) {
+void add_exploration_metrics(Json& m, const Launch& launch, const MissionMonitor& monitor,
+                             const Planners& planners, double sim_s) {
   const auto robots = monitor.robots();
   Json share = Json::object();
   for (size_t a = 0; a < report::kActivityCount; ++a) {
@@ -57,8 +53,8 @@ void add_exploration_metrics(
   m["time_share"] = std::move(share);
   uint64_t tours = 0, goals = 0;
   for (const auto& [id, p] : planners) {
-    tours += p->stats().tours;
-    goals += p->stats().goals_reached;
+    tours += p.tours;
+    goals += p.goals_reached;
   }
   double path_m = 0;
   for (const auto& r : robots) path_m += r.path_length_m;
@@ -100,11 +96,6 @@ bool copy_into(const std::string& from, const fs::path& to) {
   return !ec;
 }
 
-// The team's contacts over the run, from the simulator (none in a process without one).
-struct Contacts {
-  uint64_t robot_robot = 0, robot_scene = 0;
-};
-
 // The mesh the run is judged by, copied to mesh.ply, with its place's map as map.bt (a
 // reconstruction-only mapper writes no OctoMap: its place's planning map's then).
 void copy_best_mesh(const std::vector<MeshScore>& scores, const MeshScore* best,
@@ -123,13 +114,12 @@ struct Exchange {
   std::string architecture = "single";
   uint64_t patch_bytes = 0;
 };
-Exchange exchange_of(const Launch& launch) {
+Exchange exchange_of(const RunSummary& summary) {
   Exchange x;
-  for (const auto& c : launch.components())
-    if (const auto* mapper = dynamic_cast<const tsdf_mapper::TsdfMapper*>(c.get())) {
-      x.architecture = mapper->config().mode;
-      x.patch_bytes += mapper->stats().patch_wire_bytes;
-    }
+  for (const RunSummary::Map& map : summary.maps) {
+    x.architecture = map.mode;
+    x.patch_bytes += map.patch_wire_bytes;
+  }
   return x;
 }
 
@@ -184,13 +174,13 @@ Json robot_metrics(const MissionMonitor::RobotProgress& r, const Planners& plann
   j["kind"] = r.kind;
   j["path_length_m"] = r.path_length_m;
   const auto p = planners.find(r.id);
-  j["replans"] = p != planners.end() ? p->second->stats().replans : r.planning_requests;
+  j["replans"] = p != planners.end() ? p->second.replans : r.planning_requests;
   double coverage = r.coverage >= 0 ? r.coverage : kNan;
   for (const MeshScore& s : scores)
     if (s.robot_ns == r.ns && s.error && represents_place(scores, s)) coverage = s.error->coverage;
   j["coverage"] = number_or_null(coverage);
   if (p != planners.end()) {
-    const auto& st = p->second->stats();
+    const RunSummary::Planner& st = p->second;
     j["goals_reached"] = st.goals_reached;
     j["tours"] = st.tours;
     j["tours_per_goal"] = per_goal(static_cast<double>(st.tours), st.goals_reached);
@@ -227,7 +217,7 @@ bool add_trace(Json& m, const Tracer& tracer, const fs::path& out) {
 }
 
 // The line `scancrew run` ends with: how the mission ended, its coverage and contacts.
-void print_summary(const RunFacts& run, const MeshScore* best, const Contacts& contacts,
+void print_summary(const RunFacts& run, const MeshScore* best, const RunSummary::Contacts& contacts,
                    const fs::path& out) {
   const char* how = run.stop_reason == "complete"      ? "complete"
                     : run.stop_reason == "stalled"     ? "stalled"
@@ -257,23 +247,15 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   };
   check(report::write_paths_csv((out / "paths.csv").string(), monitor.paths()));
   check(report::write_coverage_csv((out / "coverage.csv").string(), monitor.coverage()));
+  const RunSummary summary = launch.summary();
   const auto scores = score_meshes(launch, monitor, run.started_at);
   const MeshScore* best = best_mesh(scores);
   copy_best_mesh(scores, best, out);
 
-  const Exchange exchange = exchange_of(launch);
+  const Exchange exchange = exchange_of(summary);
   Json m = run_metrics(monitor, run, exchange.architecture, scores, best);
-  Planners planners;
-  Contacts contacts;
-  for (const auto& c : launch.components()) {
-    if (const auto* p = dynamic_cast<const low_level_planner::LowLevelPlanner*>(c.get()))
-      planners[p->robot_id()] = p;
-    if (const auto* s = dynamic_cast<const team_simulator::TeamSimulator*>(c.get());
-        s && s->simulator()) {
-      contacts.robot_robot += s->simulator()->contacts().robot_robot;
-      contacts.robot_scene += s->simulator()->contacts().robot_scene;
-    }
-  }
+  const Planners& planners = summary.planners;
+  const RunSummary::Contacts& contacts = summary.contacts;
   double total_length = 0;
   uint64_t replans = 0;
   Json robots = Json::array();

@@ -26,6 +26,7 @@
 
 #include "executors/graph.hpp"
 #include "executors/publisher.hpp"
+#include "executors/run_summary.hpp"
 #include "executors/subscription.hpp"
 #include "executors/timer.hpp"
 
@@ -82,6 +83,10 @@ class Component {
   const std::vector<Executable*>& executables() const { return executables_; }
   // The port names the component used (for remap validation).
   const std::vector<std::string>& ports() const { return ports_; }
+
+  // Adds what this component has to say about the run (executors/run_summary.hpp): a
+  // mapper its map, a planner its tours, the simulator its contacts. Default: nothing.
+  virtual void summarize(RunSummary& into) const { (void)into; }
 
   // Resolves a port to its topic: remap if any, then the namespace for relative names.
   std::string resolve(std::string_view port) const;

@@ -120,6 +120,12 @@ class Launch {
   Graph& graph() { return *graph_; }
   const std::vector<std::unique_ptr<Component>>& components() const { return components_; }
   GraphReport report() const { return graph_->check(); }
+  // What the components say about the run (Component::summarize), in launch order.
+  RunSummary summary() const {
+    RunSummary s;
+    for (const auto& c : components_) c->summarize(s);
+    return s;
+  }
 
   // Activates every component, runs for settings().duration_s (or until request_stop()),
   // then deactivates them. Returns the seconds run on the launch's clock.

@@ -187,6 +187,10 @@ class LowLevelPlanner final : public Component {
     kAwaitingPlan,  // a request for a new tour is out (Request); a new plan answers it
   };
   State state() const { return state_; }
+  void summarize(RunSummary& into) const override {
+    into.planners[robot_id()] = {
+        .tours = stats_.tours, .goals_reached = stats_.goals_reached, .replans = stats_.replans};
+  }
 
  private:
   struct Teammate {

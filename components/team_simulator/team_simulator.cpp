@@ -245,6 +245,12 @@ void TeamSimulator::on_deactivate() {
       static_cast<unsigned long long>(c.robot_robot));
 }
 
+void TeamSimulator::summarize(RunSummary& into) const {
+  if (!sim_) return;
+  into.contacts.robot_scene += sim_->contacts().robot_scene;
+  into.contacts.robot_robot += sim_->contacts().robot_robot;
+}
+
 SCANCREW_REGISTER_COMPONENT(TeamSimulator, "team_simulator")
 
 }  // namespace scancrew::team_simulator

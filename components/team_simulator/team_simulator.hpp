@@ -55,6 +55,7 @@ class TeamSimulator final : public Component {
   ~TeamSimulator() override;
 
   const sim::TeamSim* simulator() const { return sim_.get(); }
+  void summarize(RunSummary& into) const override;
 
  private:
   struct RobotPorts {

@@ -287,6 +287,17 @@ std::vector<uint64_t> TsdfMapper::held_patches() const {
   return ids;
 }
 
+void TsdfMapper::summarize(RunSummary& into) const {
+  const std::string& name = qualified_name();
+  into.maps.push_back({.component = name.substr(name.rfind('/') + 1),
+                       .robot_id = robot_id(),
+                       .mode = config_.mode,
+                       .mesh_path = config_.mesh_path,
+                       .octomap_path = config_.octomap_path,
+                       .voxel_m = config_.tsdf.voxel_m,
+                       .patch_wire_bytes = stats_.patch_wire_bytes});
+}
+
 SCANCREW_REGISTER_COMPONENT(TsdfMapper, "tsdf_mapper")
 
 }  // namespace scancrew::tsdf_mapper

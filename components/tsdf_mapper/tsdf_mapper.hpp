@@ -111,6 +111,7 @@ class TsdfMapper final : public Component {
 
   const TsdfMapperStats& stats() const { return stats_; }
   const Config& config() const { return config_; }
+  void summarize(RunSummary& into) const override;
   // The current global estimate (a fresh snapshot; for tests, tools and the end of a run).
   std::shared_ptr<const MapSnapshot> snapshot() const;
   // IDs of the patches held (private + public).
