@@ -65,6 +65,78 @@ nlohmann::ordered_json miss_profile_json(const eval::MissProfile& m) {
   return out;
 }
 
+// Writes the ground-truth points the mesh did not cover to o.missed_path; their profile.
+Result<eval::MissProfile, std::string> write_misses(const EvalOptions& o,
+                                                    const io::TriangleMesh& mesh,
+                                                    const sim::SurfaceSamples& truth,
+                                                    const eval::ReconstructionError& r) {
+  // the ground-truth points no part of the mesh came within e_max of (NaN error)
+  std::vector<std::array<float, 3>> points, normals;
+  for (size_t i = 0; i < r.point_error_m.size(); ++i)
+    if (std::isnan(r.point_error_m[i])) {
+      points.push_back(truth.points[i]);
+      normals.push_back(truth.normals[i]);
+    }
+  const std::string about = "scancrew eval: ground-truth points not covered by " + o.mesh_path;
+  if (auto w = io::write_ply(
+          o.missed_path,
+          {.positions = io::flat(points), .normals = io::flat(normals), .comments = {about}});
+      !w)
+    return make_unexpected(w.error());
+  return eval::profile_misses(mesh, points, normals, r.e_max_m);
+}
+
+// The wall seconds of the ground-truth sampling and of the evaluation.
+struct EvalTimes {
+  double sampling_s = 0, eval_s = 0;
+};
+
+// Prints the scores as one JSON object.
+void print_eval_json(const EvalOptions& o, const eval::ReconstructionError& r,
+                     const EvalTimes& times, const std::optional<eval::MissProfile>& misses) {
+  // insertion order, as documented in docs/evaluation.md; NaN figures are written as null
+  nlohmann::ordered_json out;
+  out["mesh"] = o.mesh_path;
+  out["scene"] = o.scene_path;
+  out["voxel_m"] = o.voxel_size_m;
+  out["e_max_m"] = r.e_max_m;
+  out["gt_points"] = r.gt_points;
+  out["covered"] = r.covered;
+  out["coverage"] = r.coverage;
+  out["mean_error_m"] = r.mean_error_m;
+  out["std_error_m"] = r.std_error_m;
+  out["rmse_m"] = r.rmse_m;
+  out["seconds"] = times.eval_s;
+  out["status"] = eval::to_string(r.status);
+  out["mesh_triangles"] = r.mesh_triangles;
+  out["density_per_m2"] = o.density_per_m2;
+  out["seed"] = o.seed;
+  out["sampling_seconds"] = times.sampling_s;
+  if (misses) out["missed"] = miss_profile_json(*misses);
+  std::printf("%s\n", out.dump().c_str());
+}
+
+// Prints the scores as text, with the missed points' profile when there is one.
+void print_eval_text(const EvalOptions& o, const std::string& scene_name,
+                     const eval::ReconstructionError& r, const EvalTimes& times,
+                     const std::optional<eval::MissProfile>& misses) {
+  std::printf("scene '%s': %zu ground-truth points (%g points/m2, seed %llu, %.2f s)\n",
+              scene_name.c_str(), r.gt_points, o.density_per_m2,
+              static_cast<unsigned long long>(o.seed), times.sampling_s);
+  std::printf("mesh %s: %zu triangles; voxel %g m, e_max %.4f m\n", o.mesh_path.c_str(),
+              r.mesh_triangles, o.voxel_size_m, r.e_max_m);
+  const std::string why =
+      r.status == eval::EvalStatus::kOk ? "" : ": " + std::string(eval::to_string(r.status));
+  std::printf("coverage %.2f %% (%zu of %zu points)%s\n", 100 * r.coverage, r.covered, r.gt_points,
+              why.c_str());
+  if (r.covered == 0)
+    std::printf("error along the normals: undefined, no point covered (%.2f s)\n", times.eval_s);
+  else
+    std::printf("error along the normals: mean %+.4f m, std %.4f m, RMSE %.4f m (%.2f s)\n",
+                r.mean_error_m, r.std_error_m, r.rmse_m, times.eval_s);
+  if (misses) print_miss_profile(*misses, r.gt_points);
+}
+
 }  // namespace
 
 int run_eval(const EvalOptions& o) {
@@ -110,22 +182,7 @@ int run_eval(const EvalOptions& o) {
   }
   std::optional<eval::MissProfile> misses;
   if (!o.missed_path.empty()) {
-    // the ground-truth points no part of the mesh came within e_max of (NaN error)
-    std::vector<std::array<float, 3>> points, normals;
-    for (size_t i = 0; i < r->point_error_m.size(); ++i)
-      if (std::isnan(r->point_error_m[i])) {
-        points.push_back(truth->points[i]);
-        normals.push_back(truth->normals[i]);
-      }
-    const std::string about = "scancrew eval: ground-truth points not covered by " + o.mesh_path;
-    if (auto w = io::write_ply(
-            o.missed_path,
-            {.positions = io::flat(points), .normals = io::flat(normals), .comments = {about}});
-        !w) {
-      std::fprintf(stderr, "scancrew eval: %s\n", scancrew::log::printable(w.error()).c_str());
-      return 2;
-    }
-    auto profile = eval::profile_misses(*mesh, points, normals, r->e_max_m);
+    auto profile = write_misses(o, *mesh, *truth, *r);
     if (!profile) {
       std::fprintf(stderr, "scancrew eval: %s\n",
                    scancrew::log::printable(profile.error()).c_str());
@@ -134,44 +191,12 @@ int run_eval(const EvalOptions& o) {
     misses = *profile;
   }
 
+  const EvalTimes times{.sampling_s = sampling_s, .eval_s = eval_s};
   if (o.json) {
-    // insertion order, as documented in docs/evaluation.md; NaN figures are written as null
-    nlohmann::ordered_json out;
-    out["mesh"] = o.mesh_path;
-    out["scene"] = o.scene_path;
-    out["voxel_m"] = o.voxel_size_m;
-    out["e_max_m"] = r->e_max_m;
-    out["gt_points"] = r->gt_points;
-    out["covered"] = r->covered;
-    out["coverage"] = r->coverage;
-    out["mean_error_m"] = r->mean_error_m;
-    out["std_error_m"] = r->std_error_m;
-    out["rmse_m"] = r->rmse_m;
-    out["seconds"] = eval_s;
-    out["status"] = eval::to_string(r->status);
-    out["mesh_triangles"] = r->mesh_triangles;
-    out["density_per_m2"] = o.density_per_m2;
-    out["seed"] = o.seed;
-    out["sampling_seconds"] = sampling_s;
-    if (misses) out["missed"] = miss_profile_json(*misses);
-    std::printf("%s\n", out.dump().c_str());
+    print_eval_json(o, *r, times, misses);
     return 0;
   }
-  std::printf("scene '%s': %zu ground-truth points (%g points/m2, seed %llu, %.2f s)\n",
-              scene->name.c_str(), r->gt_points, o.density_per_m2,
-              static_cast<unsigned long long>(o.seed), sampling_s);
-  std::printf("mesh %s: %zu triangles; voxel %g m, e_max %.4f m\n", o.mesh_path.c_str(),
-              r->mesh_triangles, o.voxel_size_m, r->e_max_m);
-  const std::string why =
-      r->status == eval::EvalStatus::kOk ? "" : ": " + std::string(eval::to_string(r->status));
-  std::printf("coverage %.2f %% (%zu of %zu points)%s\n", 100 * r->coverage, r->covered,
-              r->gt_points, why.c_str());
-  if (r->covered == 0)
-    std::printf("error along the normals: undefined, no point covered (%.2f s)\n", eval_s);
-  else
-    std::printf("error along the normals: mean %+.4f m, std %.4f m, RMSE %.4f m (%.2f s)\n",
-                r->mean_error_m, r->std_error_m, r->rmse_m, eval_s);
-  if (misses) print_miss_profile(*misses, r->gt_points);
+  print_eval_text(o, scene->name, *r, times, misses);
   return 0;
 }
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <thread>
 
@@ -209,6 +210,177 @@ TargetVoxels profile_voxels() {
   return v;
 }
 
+// The benchmark's scenes, thesis and procedural (the latter written under out/scenes).
+Result<std::vector<BenchScene>, std::string> bench_scenes(bool quick, const fs::path& out) {
+  std::vector<BenchScene> scenes;
+  if (!quick) {
+    scenes.push_back({"arena", "arena", "launch_cfg/scenes/test_arena.yaml", "ground", 240});
+    scenes.push_back(
+        {"parking_lot", "parking_lot", "launch_cfg/scenes/parking_lot.yaml", "ground", 1500});
+    scenes.push_back(
+        {"powerplant", "powerplant", "launch_cfg/scenes/powerplant.yaml", "multirotor", 900});
+  }
+  for (const auto family : {scenegen::Family::kIndoor, scenegen::Family::kOutdoor}) {
+    auto more = procedural_scenes(family, quick, out / "scenes");
+    if (!more) return make_unexpected(more.error());
+    scenes.insert(scenes.end(), more->begin(), more->end());
+  }
+  // the ground robots' scenes first, the powerplant last: a benchmark stopped early (and
+  // resumed later) has the cheaper rows filled
+  std::stable_partition(scenes.begin(), scenes.end(),
+                        [](const BenchScene& s) { return s.kind == "ground"; });
+  std::stable_partition(scenes.begin(), scenes.end(),
+                        [](const BenchScene& s) { return s.name != "powerplant"; });
+  return scenes;
+}
+
+// Keeps the runs whose directory name contains one of `only`'s parts.
+void keep_only(std::vector<ExploreRun>& runs, const std::vector<std::string>& only) {
+  std::erase_if(runs, [&](const ExploreRun& r) {
+    const std::string name = fs::path(r.run_dir).filename().string();
+    return std::none_of(only.begin(), only.end(), [&](const std::string& part) {
+      return name.find(part) != std::string::npos;
+    });
+  });
+}
+
+// The command line that reproduces this benchmark, for the tables.
+std::string bench_command(const ExploreOptions& o) {
+  std::string only;
+  for (const std::string& part : o.only) only += (only.empty() ? "" : ",") + part;
+  return std::string("scancrew bench explore") + (o.quick ? " --quick" : "") +
+         (o.jobs > 0 ? " --jobs " + std::to_string(o.jobs) : "") +
+         (o.out_dir.empty() ? "" : " --out " + o.out_dir) + (only.empty() ? "" : " --only " + only);
+}
+
+// Wall minutes since t0.
+double minutes_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / 60;
+}
+
+// Starts one run as a child process: its pid, or -1 with r.error saying why not.
+pid_t start_run(ExploreRun& r, const std::string& scene_path,
+                std::chrono::steady_clock::time_point t0) {
+  std::error_code ec;
+  fs::create_directories(r.run_dir, ec);
+  fs::remove(fs::path(r.run_dir) / "metrics.json", ec);
+  fs::remove(fs::path(r.run_dir) / "run.log", ec);
+  auto launch = compose_mission({.scene_path = scene_path,
+                                 .kind = r.kind,
+                                 .robots = r.robots,
+                                 .arch = r.arch,
+                                 .duration_s = r.budget_s});
+  if (!launch) {
+    r.error = launch.error();
+    std::fprintf(stderr, "[%5.1f min] %s %s %zu: not started: %s\n", minutes_since(t0),
+                 r.scene.c_str(), r.arch.c_str(), r.robots, r.error.c_str());
+    return -1;
+  }
+  const std::string launch_path = (fs::path(r.run_dir) / "launch.yaml").string();
+  std::ofstream(launch_path) << *launch;
+  const pid_t pid =
+      start_child({"scancrew", "run", launch_path, "--out", r.run_dir, "--trace-events", "0"},
+                  (fs::path(r.run_dir) / "run.log").string());
+  if (pid < 0) {
+    r.error = "could not start scancrew run";
+    return -1;
+  }
+  std::fprintf(stderr, "[%5.1f min] start  %s %s %zu (%s)\n", minutes_since(t0), r.scene.c_str(),
+               r.arch.c_str(), r.robots, r.run_dir.c_str());
+  return pid;
+}
+
+// What run_all did: the runs done, and of them those an earlier benchmark had done.
+struct RunCounts {
+  size_t done = 0, resumed = 0;
+};
+
+// Runs the runs not done before, `jobs` at a time, tables after each, until done or stopped.
+RunCounts run_all(std::vector<ExploreRun>& runs, const std::vector<BenchScene>& scenes, size_t jobs,
+                  std::chrono::steady_clock::time_point t0,
+                  const std::function<void()>& write_tables) {
+  std::map<std::string, std::string> scene_path;
+  for (const BenchScene& s : scenes) scene_path[s.name] = s.path;
+  std::map<pid_t, size_t> running;
+  size_t next = 0;
+  RunCounts counts;
+  const auto start_next = [&]() -> bool {
+    for (; next < runs.size(); ++next) {
+      ExploreRun& r = runs[next];
+      if (read_done(r)) {
+        ++counts.done;
+        ++counts.resumed;
+        continue;
+      }
+      const pid_t pid = start_run(r, scene_path[r.scene], t0);
+      if (pid < 0) {
+        ++counts.done;
+        continue;
+      }
+      running[pid] = next++;
+      return true;
+    }
+    return false;
+  };
+  while (g_stop == 0 && running.size() < jobs && start_next()) {
+  }
+  while (!running.empty()) {
+    const auto [pid, status] = wait_any_child();
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    ExploreRun& r = runs[it->second];
+    running.erase(it);
+    finish_run(r, status);
+    ++counts.done;
+    std::fprintf(stderr, "[%5.1f min] %zu/%zu  %s %s %zu: %s\n", minutes_since(t0), counts.done,
+                 runs.size(), r.scene.c_str(), r.arch.c_str(), r.robots, describe(r).c_str());
+    write_tables();
+    while (g_stop == 0 && running.size() < jobs && start_next()) {
+    }
+  }
+  return counts;
+}
+
+// --quick's checks of the runs: 0 when they pass, else 1 (each problem printed).
+int check_quick_runs(const std::vector<ExploreRun>& runs) {
+  size_t bad = 0;
+  for (const ExploreRun& r : runs)
+    if (const std::string problem = check_explore_run(r); !problem.empty()) {
+      std::fprintf(stderr, "scancrew bench explore --quick: %s\n", problem.c_str());
+      ++bad;
+    }
+  // the ground pair must finish the job: the ISE criterion within the budget, 95 % of
+  // the reachable surface, no contact
+  size_t asserted = 0;
+  for (const ExploreRun& r : runs) {
+    if (r.kind != "ground") continue;
+    ++asserted;
+    const std::string who = r.scene + " " + r.arch + " " + std::to_string(r.robots) + ": ";
+    char problem[128] = "";
+    if (!r.completed())
+      std::snprintf(problem, sizeof problem, "did not complete (%s)", r.stop_reason.c_str());
+    else if (!(r.coverage_reachable >= kQuickMinReachable))
+      std::snprintf(problem, sizeof problem, "reachable coverage %.1f %% < %.0f %%",
+                    100 * r.coverage_reachable, 100 * kQuickMinReachable);
+    else if (r.contacts != 0)
+      std::snprintf(problem, sizeof problem, "%.0f contacts", r.contacts);
+    if (problem[0] != '\0') {
+      std::fprintf(stderr, "scancrew bench explore --quick: %s%s\n", who.c_str(), problem);
+      ++bad;
+    }
+  }
+  if (asserted == 0) {
+    std::fprintf(stderr, "scancrew bench explore --quick: no ground run to assert\n");
+    ++bad;
+  }
+  if (bad > 0) return 1;
+  std::fprintf(stderr,
+               "scancrew bench explore --quick: %zu runs, metrics consistent; %zu ground runs "
+               "complete, >= 95 %% of the reachable surface, 0 contacts\n",
+               runs.size(), asserted);
+  return 0;
+}
+
 }  // namespace
 
 int run_explore_bench(const ExploreOptions& o) {
@@ -223,52 +395,23 @@ int run_explore_bench(const ExploreOptions& o) {
                  ec.message().c_str());
     return 2;
   }
-  std::vector<BenchScene> scenes;
-  if (!o.quick) {
-    scenes.push_back({"arena", "arena", "launch_cfg/scenes/test_arena.yaml", "ground", 240});
-    scenes.push_back(
-        {"parking_lot", "parking_lot", "launch_cfg/scenes/parking_lot.yaml", "ground", 1500});
-    scenes.push_back(
-        {"powerplant", "powerplant", "launch_cfg/scenes/powerplant.yaml", "multirotor", 900});
+  const auto scenes = bench_scenes(o.quick, out);
+  if (!scenes) {
+    std::fprintf(stderr, "scancrew bench explore: %s\n",
+                 scancrew::log::printable(scenes.error()).c_str());
+    return 2;
   }
-  for (const auto family : {scenegen::Family::kIndoor, scenegen::Family::kOutdoor}) {
-    auto more = procedural_scenes(family, o.quick, out / "scenes");
-    if (!more) {
-      std::fprintf(stderr, "scancrew bench explore: %s\n",
-                   scancrew::log::printable(more.error()).c_str());
-      return 2;
-    }
-    scenes.insert(scenes.end(), more->begin(), more->end());
-  }
-  // the ground robots' scenes first, the powerplant last: a benchmark stopped early (and
-  // resumed later) has the cheaper rows filled
-  std::stable_partition(scenes.begin(), scenes.end(),
-                        [](const BenchScene& s) { return s.kind == "ground"; });
-  std::stable_partition(scenes.begin(), scenes.end(),
-                        [](const BenchScene& s) { return s.name != "powerplant"; });
-  std::vector<ExploreRun> runs = plan_runs(scenes, o.quick, out);
+  std::vector<ExploreRun> runs = plan_runs(*scenes, o.quick, out);
   if (!o.only.empty()) {
-    std::erase_if(runs, [&](const ExploreRun& r) {
-      const std::string name = fs::path(r.run_dir).filename().string();
-      return std::none_of(o.only.begin(), o.only.end(), [&](const std::string& part) {
-        return name.find(part) != std::string::npos;
-      });
-    });
+    keep_only(runs, o.only);
     if (runs.empty()) {
       std::fprintf(stderr, "scancrew bench explore: --only matches no run\n");
       return 2;
     }
   }
-  std::map<std::string, std::string> scene_path;
-  for (const BenchScene& s : scenes) scene_path[s.name] = s.path;
 
   const size_t jobs = o.jobs > 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
-  std::string only;
-  for (const std::string& part : o.only) only += (only.empty() ? "" : ",") + part;
-  const std::string command = std::string("scancrew bench explore") + (o.quick ? " --quick" : "") +
-                              (o.jobs > 0 ? " --jobs " + std::to_string(o.jobs) : "") +
-                              (o.out_dir.empty() ? "" : " --out " + o.out_dir) +
-                              (only.empty() ? "" : " --only " + only);
+  const std::string command = bench_command(o);
   const std::string title = std::string("bench explore") + (o.quick ? " --quick" : "") + ": " +
                             std::to_string(runs.size()) + " runs";
   // the family table, and (the thesis's scenes are in the full set only) the thesis's rows
@@ -297,67 +440,7 @@ int run_explore_bench(const ExploreOptions& o) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const auto t0 = std::chrono::steady_clock::now();
-  const auto minutes = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / 60;
-  };
-  std::map<pid_t, size_t> running;
-  size_t next = 0, done = 0, resumed = 0;
-  const auto start_next = [&]() -> bool {
-    for (; next < runs.size(); ++next) {
-      ExploreRun& r = runs[next];
-      if (read_done(r)) {
-        ++done;
-        ++resumed;
-        continue;
-      }
-      fs::create_directories(r.run_dir, ec);
-      fs::remove(fs::path(r.run_dir) / "metrics.json", ec);
-      fs::remove(fs::path(r.run_dir) / "run.log", ec);
-      auto launch = compose_mission({.scene_path = scene_path[r.scene],
-                                     .kind = r.kind,
-                                     .robots = r.robots,
-                                     .arch = r.arch,
-                                     .duration_s = r.budget_s});
-      if (!launch) {
-        r.error = launch.error();
-        ++done;
-        std::fprintf(stderr, "[%5.1f min] %s %s %zu: not started: %s\n", minutes(), r.scene.c_str(),
-                     r.arch.c_str(), r.robots, r.error.c_str());
-        continue;
-      }
-      const std::string launch_path = (fs::path(r.run_dir) / "launch.yaml").string();
-      std::ofstream(launch_path) << *launch;
-      const pid_t pid =
-          start_child({"scancrew", "run", launch_path, "--out", r.run_dir, "--trace-events", "0"},
-                      (fs::path(r.run_dir) / "run.log").string());
-      if (pid < 0) {
-        r.error = "could not start scancrew run";
-        ++done;
-        continue;
-      }
-      std::fprintf(stderr, "[%5.1f min] start  %s %s %zu (%s)\n", minutes(), r.scene.c_str(),
-                   r.arch.c_str(), r.robots, r.run_dir.c_str());
-      running[pid] = next++;
-      return true;
-    }
-    return false;
-  };
-  while (g_stop == 0 && running.size() < jobs && start_next()) {
-  }
-  while (!running.empty()) {
-    const auto [pid, status] = wait_any_child();
-    const auto it = running.find(pid);
-    if (it == running.end()) continue;
-    ExploreRun& r = runs[it->second];
-    running.erase(it);
-    finish_run(r, status);
-    ++done;
-    std::fprintf(stderr, "[%5.1f min] %zu/%zu  %s %s %zu: %s\n", minutes(), done, runs.size(),
-                 r.scene.c_str(), r.arch.c_str(), r.robots, describe(r).c_str());
-    write_tables();
-    while (g_stop == 0 && running.size() < jobs && start_next()) {
-    }
-  }
+  const RunCounts counts = run_all(runs, *scenes, jobs, t0, write_tables);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   write_tables();
@@ -365,47 +448,11 @@ int run_explore_bench(const ExploreOptions& o) {
     std::printf("%s", format_explore_json(runs).c_str());
   else
     std::printf("%s", markdown().c_str());
-  std::fprintf(stderr, "%zu of %zu runs done (%zu from an earlier run) in %.1f min; %s, %s\n", done,
-               runs.size(), resumed, minutes(), (out / "explore.md").c_str(),
-               (out / "explore.csv").c_str());
-  if (g_stop != 0 || done < runs.size()) return 1;
-  if (o.quick) {
-    size_t bad = 0;
-    for (const ExploreRun& r : runs)
-      if (const std::string problem = check_explore_run(r); !problem.empty()) {
-        std::fprintf(stderr, "scancrew bench explore --quick: %s\n", problem.c_str());
-        ++bad;
-      }
-    // the ground pair must finish the job: the ISE criterion within the budget, 95 % of
-    // the reachable surface, no contact
-    size_t asserted = 0;
-    for (const ExploreRun& r : runs) {
-      if (r.kind != "ground") continue;
-      ++asserted;
-      const std::string who = r.scene + " " + r.arch + " " + std::to_string(r.robots) + ": ";
-      char problem[128] = "";
-      if (!r.completed())
-        std::snprintf(problem, sizeof problem, "did not complete (%s)", r.stop_reason.c_str());
-      else if (!(r.coverage_reachable >= kQuickMinReachable))
-        std::snprintf(problem, sizeof problem, "reachable coverage %.1f %% < %.0f %%",
-                      100 * r.coverage_reachable, 100 * kQuickMinReachable);
-      else if (r.contacts != 0)
-        std::snprintf(problem, sizeof problem, "%.0f contacts", r.contacts);
-      if (problem[0] != '\0') {
-        std::fprintf(stderr, "scancrew bench explore --quick: %s%s\n", who.c_str(), problem);
-        ++bad;
-      }
-    }
-    if (asserted == 0) {
-      std::fprintf(stderr, "scancrew bench explore --quick: no ground run to assert\n");
-      ++bad;
-    }
-    if (bad > 0) return 1;
-    std::fprintf(stderr,
-                 "scancrew bench explore --quick: %zu runs, metrics consistent; %zu ground runs "
-                 "complete, >= 95 %% of the reachable surface, 0 contacts\n",
-                 runs.size(), asserted);
-  }
+  std::fprintf(stderr, "%zu of %zu runs done (%zu from an earlier run) in %.1f min; %s, %s\n",
+               counts.done, runs.size(), counts.resumed, minutes_since(t0),
+               (out / "explore.md").c_str(), (out / "explore.csv").c_str());
+  if (g_stop != 0 || counts.done < runs.size()) return 1;
+  if (o.quick) return check_quick_runs(runs);
   return 0;
 }
 

@@ -54,14 +54,9 @@ TargetRow thesis_time(const std::vector<ExploreRun>& runs, const std::string& ta
           r->completed() && r->completion_time_s <= time_s && r->coverage >= min_coverage};
 }
 
-}  // namespace
-
-std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
-                                       const TargetVoxels& voxels) {
-  std::vector<TargetRow> rows;
-  std::vector<const ExploreRun*> ran;
-  for (const ExploreRun& r : runs)
-    if (r.ran()) ran.push_back(&r);
+// Appends the four targets every run is held to.
+void every_run_rows(const std::vector<const ExploreRun*>& ran, const TargetVoxels& voxels,
+                    std::vector<TargetRow>& rows) {
   const std::string of_n = " of " + std::to_string(ran.size()) + " runs";
 
   // every run: completion, reachable coverage, RMSE, contacts
@@ -107,7 +102,10 @@ std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
                                  name_of(*most_contacts) + ")"
                            : ""),
                   all && clean == ran.size()});
+}
 
+// Appends the targets set on the thesis's scenes.
+void thesis_rows(const std::vector<ExploreRun>& runs, std::vector<TargetRow>& rows) {
   // the thesis's scenes
   rows.push_back(thesis_time(runs, "powerplant, 3 UAVs, TSGA: complete ≤ 620 s, coverage ≥ 91 %",
                              "powerplant", 3, "centralized", 620, 0.91));
@@ -145,7 +143,10 @@ std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
     rows.push_back(
         {"parking lot, 1 robot: complete ≤ 836 s, total path ≤ 160 m", "not run", false});
   }
+}
 
+// Appends, per architecture, the procedural scenes' team-of-four speed-up target.
+void procedural_share_rows(const std::vector<ExploreRun>& runs, std::vector<TargetRow>& rows) {
   // procedural scenes: four robots against one, to 95 % of the reachable surface; over the
   // scenes that have a team of four (the ground robots' families: multirotors fly 3 and 5)
   for (const char* arch : {"centralized", "distributed"}) {
@@ -183,6 +184,10 @@ std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
     if (never > 0) measured += "; " + std::to_string(never) + " whose team never reached 95 %";
     rows.push_back({target, measured, never == 0 && mean <= 0.35});
   }
+}
+
+// The procedural scenes' completion-tail target, over the runs that ran.
+TargetRow tail_row(const std::vector<const ExploreRun*>& ran) {
   // the tail: from 90 % of the reachable surface to completion, against the way to 90 %
   size_t tails = 0, short_tails = 0;
   const ExploreRun* longest = nullptr;
@@ -197,12 +202,16 @@ std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
       longest_ratio = ratio;
     }
   }
-  rows.push_back(
-      {"procedural: the time from 90 % to completion ≤ the time from 0 to 90 %",
-       std::to_string(short_tails) + " of " + std::to_string(tails) + " completed runs" +
-           (longest ? "; longest tail " + fixed(longest_ratio, 2) + " × (" + name_of(*longest) + ")"
-                    : ""),
-       tails > 0 && short_tails == tails});
+  return {
+      "procedural: the time from 90 % to completion ≤ the time from 0 to 90 %",
+      std::to_string(short_tails) + " of " + std::to_string(tails) + " completed runs" +
+          (longest ? "; longest tail " + fixed(longest_ratio, 2) + " × (" + name_of(*longest) + ")"
+                   : ""),
+      tails > 0 && short_tails == tails};
+}
+
+// Appends, per architecture, the powerplant's five-UAV real-time target.
+void real_time_rows(const std::vector<ExploreRun>& runs, std::vector<TargetRow>& rows) {
   // compute at team size: five UAVs in real time or faster
   for (const char* arch : {"centralized", "distributed"}) {
     const std::string target =
@@ -218,6 +227,21 @@ std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
                         fixed(five->wall_time_s, 0) + " s wall)",
                     rtf >= 1});
   }
+}
+
+}  // namespace
+
+std::vector<TargetRow> explore_targets(const std::vector<ExploreRun>& runs,
+                                       const TargetVoxels& voxels) {
+  std::vector<TargetRow> rows;
+  std::vector<const ExploreRun*> ran;
+  for (const ExploreRun& r : runs)
+    if (r.ran()) ran.push_back(&r);
+  every_run_rows(ran, voxels, rows);
+  thesis_rows(runs, rows);
+  procedural_share_rows(runs, rows);
+  rows.push_back(tail_row(ran));
+  real_time_rows(runs, rows);
   return rows;
 }
 

@@ -124,9 +124,8 @@ void merge_section(const YAML::Node& profile, const std::string& key, YAML::Node
   }
 }
 
-}  // namespace
-
-Result<std::string, std::string> compose_mission(const MissionSpec& s) {
+// Refuses a spec whose kind, architecture, reconstruction map or team size does not fit.
+Result<void, std::string> check_spec(const MissionSpec& s) {
   if (s.kind != "ground" && s.kind != "multirotor")
     return make_unexpected("robot kind '" + s.kind + "': allowed: ground, multirotor");
   if (s.arch != "single" && s.arch != "centralized" && s.arch != "distributed")
@@ -139,19 +138,11 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   if (s.robots == 0 || (s.arch == "single" && s.robots != 1))
     return make_unexpected("architecture " + s.arch + " with " + std::to_string(s.robots) +
                            " robots: single takes 1, the others 1 or more");
-  auto scene = sim::load_scene(s.scene_path);
-  if (!scene) {
-    std::string all;
-    for (const auto& e : scene.error()) all += (all.empty() ? "" : "; ") + e;
-    return make_unexpected(all);
-  }
-  const auto& starts = s.kind == "ground" ? scene->starts.ground : scene->starts.multirotor;
-  if (starts.size() < s.robots)
-    return make_unexpected(s.scene_path + ": starts." + s.kind + " lists " +
-                           std::to_string(starts.size()) + " start(s), the team has " +
-                           std::to_string(s.robots) + " robots");
-  const std::string profile_path =
-      s.profile_path.empty() ? s.profile_root + "/" + s.kind + ".yaml" : s.profile_path;
+  return {};
+}
+
+// Reads the profile at profile_path: a mapping of component sections.
+Result<YAML::Node, std::string> read_profile(const std::string& profile_path) {
   const auto profile_text = read_text_file(profile_path);
   if (!profile_text)
     return make_unexpected(profile_path + ": cannot read the profile: " + profile_text.error());
@@ -174,10 +165,11 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
                              "monitor, each optionally with _single, _centralized or "
                              "_distributed");
   }
+  return *profile;
+}
 
-  YAML::Node root(YAML::NodeType::Map);
-  root["clock"] = "sim";
-  root["executor"]["type"] = "step";
+// The launch file's run: section.
+YAML::Node run_section(const MissionSpec& s) {
   YAML::Node run(YAML::NodeType::Map);
   run["duration_s"] = number(s.duration_s);
   run["sim_step_s"] = number(0.05);
@@ -185,45 +177,78 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   if (!s.compute_time.empty()) run["compute_time"] = s.compute_time;
   // one robot alone has no ground station: its map, ISEs and plans run on board
   if (s.arch == "single") run["station"] = false;
-  root["run"] = run;
-  for (size_t i = 0; i < s.robots; ++i) {
-    YAML::Node r(YAML::NodeType::Map);
-    r["id"] = i + 1;
-    r["namespace"] = "r" + std::to_string(i + 1);
-    r["kind"] = s.kind;
-    YAML::Node start(YAML::NodeType::Sequence);
-    start.SetStyle(YAML::EmitterStyle::Flow);
-    start.push_back(number(starts[i].position_m.x));
-    start.push_back(number(starts[i].position_m.y));
-    start.push_back(number(starts[i].position_m.z));
-    start.push_back(number(std::round(starts[i].yaw_rad * 180.0 / M_PI * 1e6) / 1e6));
-    r["start"] = start;
-    r.SetStyle(YAML::EmitterStyle::Flow);
-    root["robots"].push_back(r);
-  }
-  for (ComponentPlan& c : architecture_graph(s, *scene, s.robots > 1)) {
-    // the reconstruction map takes the planning map's parameters where it sets none
-    const std::string section = c.name == "recon" ? "mapper" : c.name;
-    if (c.name == "monitor" && s.reconstruction_voxel_m > 0) {
-      // both meshes scored at the planning map's e_max, the thesis's (r_v sqrt(3) / 2)
-      // (the profile's value: a --set of the voxel does not move it)
-      const YAML::Node voxel = (*profile)["mapper"]["voxel_m"];
-      try {
-        if (voxel.IsDefined() && voxel.IsScalar())
-          c.params["eval_e_max_m"] = number(voxel.as<double>() * std::sqrt(3.0) / 2);
-      } catch (const YAML::Exception&) {  // not a number: the mapper refuses it by name
-      }
+  return run;
+}
+
+// The launch file's entry of robot i (from 0), at the scene's start pose.
+YAML::Node robot_entry(size_t i, const std::string& kind, const sim::StartPose& start_pose) {
+  YAML::Node r(YAML::NodeType::Map);
+  r["id"] = i + 1;
+  r["namespace"] = "r" + std::to_string(i + 1);
+  r["kind"] = kind;
+  YAML::Node start(YAML::NodeType::Sequence);
+  start.SetStyle(YAML::EmitterStyle::Flow);
+  start.push_back(number(start_pose.position_m.x));
+  start.push_back(number(start_pose.position_m.y));
+  start.push_back(number(start_pose.position_m.z));
+  start.push_back(number(std::round(start_pose.yaw_rad * 180.0 / M_PI * 1e6) / 1e6));
+  r["start"] = start;
+  r.SetStyle(YAML::EmitterStyle::Flow);
+  return r;
+}
+
+// The launch file's entry of a component, with the profile's parameters merged in.
+YAML::Node component_entry(ComponentPlan& c, const MissionSpec& s, YAML::Node& profile) {
+  // the reconstruction map takes the planning map's parameters where it sets none
+  const std::string section = c.name == "recon" ? "mapper" : c.name;
+  if (c.name == "monitor" && s.reconstruction_voxel_m > 0) {
+    // both meshes scored at the planning map's e_max, the thesis's (r_v sqrt(3) / 2)
+    // (the profile's value: a --set of the voxel does not move it)
+    const YAML::Node voxel = profile["mapper"]["voxel_m"];
+    try {
+      if (voxel.IsDefined() && voxel.IsScalar())
+        c.params["eval_e_max_m"] = number(voxel.as<double>() * std::sqrt(3.0) / 2);
+    } catch (const YAML::Exception&) {  // not a number: the mapper refuses it by name
     }
-    merge_section(*profile, section, c.params);
-    merge_section(*profile, section + "_" + s.arch, c.params);
-    YAML::Node n(YAML::NodeType::Map);
-    n["name"] = c.name;
-    n["type"] = c.type;
-    if (!c.per_robot) n["per_robot"] = false;
-    if (c.remap.IsDefined() && c.remap.IsMap()) n["remap"] = c.remap;
-    if (c.params.size() > 0) n["params"] = c.params;
-    root["components"].push_back(n);
   }
+  merge_section(profile, section, c.params);
+  merge_section(profile, section + "_" + s.arch, c.params);
+  YAML::Node n(YAML::NodeType::Map);
+  n["name"] = c.name;
+  n["type"] = c.type;
+  if (!c.per_robot) n["per_robot"] = false;
+  if (c.remap.IsDefined() && c.remap.IsMap()) n["remap"] = c.remap;
+  if (c.params.size() > 0) n["params"] = c.params;
+  return n;
+}
+
+}  // namespace
+
+Result<std::string, std::string> compose_mission(const MissionSpec& s) {
+  if (auto checked = check_spec(s); !checked) return make_unexpected(checked.error());
+  auto scene = sim::load_scene(s.scene_path);
+  if (!scene) {
+    std::string all;
+    for (const auto& e : scene.error()) all += (all.empty() ? "" : "; ") + e;
+    return make_unexpected(all);
+  }
+  const auto& starts = s.kind == "ground" ? scene->starts.ground : scene->starts.multirotor;
+  if (starts.size() < s.robots)
+    return make_unexpected(s.scene_path + ": starts." + s.kind + " lists " +
+                           std::to_string(starts.size()) + " start(s), the team has " +
+                           std::to_string(s.robots) + " robots");
+  const std::string profile_path =
+      s.profile_path.empty() ? s.profile_root + "/" + s.kind + ".yaml" : s.profile_path;
+  auto profile = read_profile(profile_path);
+  if (!profile) return make_unexpected(profile.error());
+
+  YAML::Node root(YAML::NodeType::Map);
+  root["clock"] = "sim";
+  root["executor"]["type"] = "step";
+  root["run"] = run_section(s);
+  for (size_t i = 0; i < s.robots; ++i) root["robots"].push_back(robot_entry(i, s.kind, starts[i]));
+  for (ComponentPlan& c : architecture_graph(s, *scene, s.robots > 1))
+    root["components"].push_back(component_entry(c, s, *profile));
   YAML::Emitter out;
   out << root;
   return "# composed by scancrew from scene " + s.scene_path + ", " + std::to_string(s.robots) +

@@ -33,6 +33,39 @@ sim::RobotSpec make_robot(const RenderOptions& o, double x, double y, double yaw
   return r;
 }
 
+// The poses to try the viewer at: {x m, y m, yaw rad}.
+std::vector<std::array<double, 3>> candidate_poses(const RenderOptions& o,
+                                                   const sim::SceneSpec& scene, double cx,
+                                                   double cy) {
+  // candidate poses: the one asked for, else the corners (1 m in) facing the centre
+  std::vector<std::array<double, 3>> candidates;
+  if (o.pose.size() == 3) {
+    candidates.push_back({o.pose[0], o.pose[1], o.pose[2] * M_PI / 180.0});
+  } else {
+    for (bool east : {false, true})
+      for (bool north : {false, true}) {
+        const double x = east ? scene.max_m.x - 1 : scene.min_m.x + 1;
+        const double y = north ? scene.max_m.y - 1 : scene.min_m.y + 1;
+        candidates.push_back({x, y, std::atan2(cy - y, cx - x)});
+      }
+  }
+  return candidates;
+}
+
+// The simulator with the viewer at the first candidate pose it accepts; else the last error.
+Result<std::unique_ptr<sim::TeamSim>, std::string> create_viewer(
+    const RenderOptions& o, const sim::SceneSpec& scene,
+    const std::vector<std::array<double, 3>>& candidates) {
+  std::string last_error;
+  for (const auto& [x, y, yaw] : candidates) {
+    sim::TeamSimConfig config;
+    auto made = sim::TeamSim::create(scene, {make_robot(o, x, y, yaw)}, config);
+    if (made) return std::move(made).value();
+    last_error = made.error();
+  }
+  return make_unexpected(last_error);
+}
+
 }  // namespace
 
 int run_render(const RenderOptions& o) {
@@ -43,35 +76,14 @@ int run_render(const RenderOptions& o) {
       std::fprintf(stderr, "  %s\n", scancrew::log::printable(e).c_str());
     return 2;
   }
-  // candidate poses: the one asked for, else the corners (1 m in) facing the centre
-  std::vector<std::array<double, 3>> candidates;
   const double cx = 0.5 * (scene->min_m.x + scene->max_m.x),
                cy = 0.5 * (scene->min_m.y + scene->max_m.y);
-  if (o.pose.size() == 3) {
-    candidates.push_back({o.pose[0], o.pose[1], o.pose[2] * M_PI / 180.0});
-  } else {
-    for (bool east : {false, true})
-      for (bool north : {false, true}) {
-        const double x = east ? scene->max_m.x - 1 : scene->min_m.x + 1;
-        const double y = north ? scene->max_m.y - 1 : scene->min_m.y + 1;
-        candidates.push_back({x, y, std::atan2(cy - y, cx - x)});
-      }
-  }
-  std::unique_ptr<sim::TeamSim> team;
-  std::string last_error;
-  for (const auto& [x, y, yaw] : candidates) {
-    sim::TeamSimConfig config;
-    auto made = sim::TeamSim::create(*scene, {make_robot(o, x, y, yaw)}, config);
-    if (made) {
-      team = std::move(made).value();
-      break;
-    }
-    last_error = made.error();
-  }
-  if (!team) {
-    std::fprintf(stderr, "scancrew render: %s\n", last_error.c_str());
+  auto made = create_viewer(o, *scene, candidate_poses(o, *scene, cx, cy));
+  if (!made) {
+    std::fprintf(stderr, "scancrew render: %s\n", made.error().c_str());
     return 2;
   }
+  const std::unique_ptr<sim::TeamSim> team = std::move(made).value();
   std::filesystem::create_directories(o.out_dir);
   msg::StereoFrame stereo;
   msg::DepthImage depth;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include "cli/child_process.hpp"
 #include "cli/commands.hpp"
@@ -211,29 +212,23 @@ std::string describe(const SweepRun& r) {
   return buf;
 }
 
-}  // namespace
-
-int run_sweep(const SweepOptions& o) {
-  auto plan = read_plan(o.path);
-  if (!plan) {
-    std::fprintf(stderr, "scancrew sweep: %s\n", scancrew::log::printable(plan.error()).c_str());
-    return 2;
-  }
-
+// Resolves --arch against the sweep or launch file; nullopt (said why) when they do not fit.
+std::optional<std::vector<std::string>> select_architectures(const SweepOptions& o,
+                                                             SweepPlan& plan) {
   // the architectures asked, each with its launch file
   std::vector<std::string> archs = o.archs;
-  if (plan->sweep_file) {
+  if (plan.sweep_file) {
     if (archs.empty())
       for (const char* a : kArchitectures)
-        if (plan->launch_of.count(a) > 0) archs.emplace_back(a);
+        if (plan.launch_of.count(a) > 0) archs.emplace_back(a);
     std::vector<std::string> has;
     for (const char* a : kArchitectures)
-      if (plan->launch_of.count(a) > 0) has.emplace_back(a);
+      if (plan.launch_of.count(a) > 0) has.emplace_back(a);
     for (const std::string& a : archs)
-      if (plan->launch_of.count(a) == 0) {
+      if (plan.launch_of.count(a) == 0) {
         std::fprintf(stderr, "scancrew sweep: %s has no architecture '%s'; it has: %s\n",
                      o.path.c_str(), a.c_str(), join(has).c_str());
-        return 2;
+        return std::nullopt;
       }
   } else {
     if (archs.size() != 1) {
@@ -242,28 +237,29 @@ int run_sweep(const SweepOptions& o) {
                    "name its one architecture with --arch (single, centralized or "
                    "distributed)%s\n",
                    o.path.c_str(), archs.empty() ? "" : ", not several");
-      return 2;
+      return std::nullopt;
     }
-    plan->launch_of[archs.front()] = o.path;
+    plan.launch_of[archs.front()] = o.path;
   }
-  std::vector<std::string> keys(kDefaultSeedKeys.begin(), kDefaultSeedKeys.end());
-  if (!o.seed_keys.empty())
-    keys = o.seed_keys;
-  else if (!plan->seed_keys.empty())
-    keys = plan->seed_keys;
+  return archs;
+}
 
+// Expands the architectures into the planned runs; nullopt (said why) on a bad launch file.
+std::optional<std::vector<PlannedRun>> plan_runs(const SweepOptions& o,
+                                                 const std::vector<std::string>& archs,
+                                                 SweepPlan& plan) {
   // architecture x robots x seed; "single" is one robot whatever --robots says, a team
   // larger than a launch file lists is skipped for its architecture (said once), and so is
   // a team of one beside a "single" row: it would run the single robot again
   const bool has_single = std::find(archs.begin(), archs.end(), "single") != archs.end();
   std::vector<PlannedRun> runs;
   for (const std::string& arch : archs) {
-    const std::string& launch = plan->launch_of[arch];
+    const std::string& launch = plan.launch_of[arch];
     const TeamSize team = team_size(launch);
     if (team.listed == 0) {
       std::fprintf(stderr, "scancrew sweep: %s: %s is not a launch file\n", arch.c_str(),
                    launch.c_str());
-      return 2;
+      return std::nullopt;
     }
     const size_t most = arch == "single" ? 1 : team.listed;
     const size_t least = arch != "single" && has_single ? 2 : 1;
@@ -291,30 +287,19 @@ int run_sweep(const SweepOptions& o) {
       for (int seed = 1; seed <= o.seeds; ++seed)
         runs.push_back({.arch = arch, .launch = launch, .robots = n, .seed = seed});
   }
-  if (runs.empty()) {
-    std::fprintf(stderr, "scancrew sweep: nothing to run (no team size fits any launch file)\n");
-    return 2;
-  }
+  return runs;
+}
 
-  const fs::path out =
-      o.out_dir.empty() ? fs::path("runs") / ("sweep_" + stem_of(o.path)) : fs::path(o.out_dir);
-  std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) {
-    std::fprintf(stderr, "scancrew sweep: cannot create %s: %s\n", out.c_str(),
-                 ec.message().c_str());
-    return 2;
-  }
-  std::string title = "Sweep of " + o.path + ": " + std::to_string(o.seeds) +
-                      (o.seeds == 1 ? " seed" : " seeds") + " (" + join(keys, ", ") + ")";
-  if (!o.sets.empty()) title += "; --set " + join(o.sets, " ");
-
+// Runs the planned runs in order, tables after each, until done or stopped; the runs done.
+std::vector<SweepRun> run_all(const std::vector<PlannedRun>& runs, const SweepOptions& o,
+                              const std::vector<std::string>& keys, const fs::path& out,
+                              const std::string& title, bool& tables_written) {
   g_stop = 0;
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   std::vector<SweepRun> done;
   done.reserve(runs.size());
-  bool tables_written = true;
+  tables_written = true;
   for (size_t i = 0; i < runs.size() && g_stop == 0; ++i) {
     const PlannedRun& p = runs[i];
     const std::string head = "[" + std::to_string(i + 1) + "/" + std::to_string(runs.size()) +
@@ -333,12 +318,53 @@ int run_sweep(const SweepOptions& o) {
   }
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
+  return done;
+}
 
-  const bool stopped = done.size() < runs.size();
+}  // namespace
+
+int run_sweep(const SweepOptions& o) {
+  auto plan = read_plan(o.path);
+  if (!plan) {
+    std::fprintf(stderr, "scancrew sweep: %s\n", scancrew::log::printable(plan.error()).c_str());
+    return 2;
+  }
+  const auto archs = select_architectures(o, *plan);
+  if (!archs) return 2;
+  std::vector<std::string> keys(kDefaultSeedKeys.begin(), kDefaultSeedKeys.end());
+  if (!o.seed_keys.empty())
+    keys = o.seed_keys;
+  else if (!plan->seed_keys.empty())
+    keys = plan->seed_keys;
+
+  const auto runs = plan_runs(o, *archs, *plan);
+  if (!runs) return 2;
+  if (runs->empty()) {
+    std::fprintf(stderr, "scancrew sweep: nothing to run (no team size fits any launch file)\n");
+    return 2;
+  }
+
+  const fs::path out =
+      o.out_dir.empty() ? fs::path("runs") / ("sweep_" + stem_of(o.path)) : fs::path(o.out_dir);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) {
+    std::fprintf(stderr, "scancrew sweep: cannot create %s: %s\n", out.c_str(),
+                 ec.message().c_str());
+    return 2;
+  }
+  std::string title = "Sweep of " + o.path + ": " + std::to_string(o.seeds) +
+                      (o.seeds == 1 ? " seed" : " seeds") + " (" + join(keys, ", ") + ")";
+  if (!o.sets.empty()) title += "; --set " + join(o.sets, " ");
+
+  bool tables_written = true;
+  const std::vector<SweepRun> done = run_all(*runs, o, keys, out, title, tables_written);
+
+  const bool stopped = done.size() < runs->size();
   size_t failed = 0;
   for (const SweepRun& r : done) failed += outcome_of(r) == RunOutcome::kFailed ? 1 : 0;
   std::printf("\n%s", format_sweep_markdown(done, title).c_str());
-  std::printf("\n%zu of %zu runs done", done.size(), runs.size());
+  std::printf("\n%zu of %zu runs done", done.size(), runs->size());
   if (failed > 0) std::printf(", %zu failed", failed);
   if (stopped) std::printf(" (stopped)");
   std::printf("; tables %s and %s\n", (out / "sweep.md").c_str(), (out / "sweep.csv").c_str());

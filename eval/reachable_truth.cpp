@@ -109,6 +109,93 @@ class PoseGrid {
   std::vector<uint32_t> offsets_, entries_;
 };
 
+// points sorted by (voxel, normal octant) into buckets
+struct Buckets {
+  std::array<float, 3> lo{};                         // the points' lower corner
+  uint64_t nvx = 0, nvy = 0;                         // voxels along x and y
+  std::vector<std::pair<uint64_t, uint32_t>> keyed;  // (voxel * 8 + octant, point index)
+  std::vector<size_t> starts;  // each bucket's first entry in keyed, then keyed.size()
+};
+
+// sorts the points into buckets of side bm, by voxel and normal octant
+Buckets make_buckets(const std::vector<std::array<float, 3>>& points,
+                     const std::vector<std::array<float, 3>>& normals, double bm) {
+  Buckets out;
+  std::array<float, 3>& lo = out.lo;
+  lo = points.front();
+  std::array<float, 3> hi = lo;
+  for (const auto& p : points)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  const auto vox = [&](const std::array<float, 3>& p, int a) {
+    return static_cast<uint64_t>(std::floor((p[a] - lo[a]) / bm));
+  };
+  const uint64_t nvx = vox(hi, 0) + 1, nvy = vox(hi, 1) + 1;
+  out.nvx = nvx;
+  out.nvy = nvy;
+  std::vector<std::pair<uint64_t, uint32_t>>& keyed = out.keyed;
+  keyed.resize(points.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 4096), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const auto& n = normals[i];
+      const uint64_t oct = (n[0] < 0 ? 1U : 0U) | (n[1] < 0 ? 2U : 0U) | (n[2] < 0 ? 4U : 0U);
+      const uint64_t v = (vox(points[i], 2) * nvy + vox(points[i], 1)) * nvx + vox(points[i], 0);
+      keyed[i] = {v * 8 + oct, static_cast<uint32_t>(i)};
+    }
+  });
+  tbb::parallel_sort(keyed.begin(), keyed.end());
+  for (size_t i = 0; i < keyed.size(); ++i)
+    if (i == 0 || keyed[i].first != keyed[i - 1].first) out.starts.push_back(i);
+  out.starts.push_back(keyed.size());
+  return out;
+}
+
+// casts lines of sight from candidate body positions to a bucket's points
+struct RayCaster {
+  const View& view;
+  const std::vector<Vec3>& poses;
+  const sim::SceneSolids& solids;
+  double end_margin_m;
+  int cap, near_cap;
+
+  // whether point p (normal n) is seen from one of cands ((distance, pose), nearest first);
+  // last: the candidate that served the bucket's last observable point (updated); counts
+  // the lines of sight cast into rays
+  bool observable(const std::vector<std::pair<double, uint32_t>>& cands, const Vec3& p,
+                  const Vec3& n, int64_t& last, uint64_t& rays) const {
+    Vec3 cam;
+    // the candidate that served the bucket's last point first
+    if (last >= 0 && in_view(view, poses[cands[static_cast<size_t>(last)].second], p, n, &cam)) {
+      ++rays;
+      if (!solids.segment_blocked(cam, p, end_margin_m)) return true;
+    }
+    // the nearest candidates first; after near_cap lines of sight, the others in a
+    // spread order (every stride-th, then the next phase), up to cap in all
+    int cast = 0;
+    const auto try_candidate = [&](size_t k) {
+      if (static_cast<int64_t>(k) == last) return false;
+      const bool ok = in_view(view, poses[cands[k].second], p, n, &cam);
+      if (!ok) return false;
+      ++cast;
+      ++rays;
+      if (solids.segment_blocked(cam, p, end_margin_m)) return false;
+      last = static_cast<int64_t>(k);
+      return true;
+    };
+    bool found = false;
+    size_t k = 0;
+    for (; k < cands.size() && cast < near_cap && !found; ++k) found = try_candidate(k);
+    const size_t rest = cands.size() - k;
+    const size_t stride = std::max<size_t>(1, rest / static_cast<size_t>(cap - near_cap + 1));
+    for (size_t phase = 0; phase < stride && !found && cast < cap; ++phase)
+      for (size_t j = k + phase; j < cands.size() && !found && cast < cap; j += stride)
+        found = try_candidate(j);
+    return found;
+  }
+};
+
 std::string check(const ObserverModel& o, const ReachableTruthOptions& opt) {
   std::ostringstream msg;
   if (!(o.min_range_m >= 0 && o.max_range_m > o.min_range_m && std::isfinite(o.max_range_m)))
@@ -161,34 +248,16 @@ Result<ReachableTruth, std::string> reachable_truth(
   const PoseGrid grid(poses, reach_xy, reach_z);
 
   // buckets: points sorted by (voxel, normal octant)
-  std::array<float, 3> lo = points.front(), hi = lo;
-  for (const auto& p : points)
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], p[a]);
-      hi[a] = std::max(hi[a], p[a]);
-    }
-  const auto vox = [&](const std::array<float, 3>& p, int a) {
-    return static_cast<uint64_t>(std::floor((p[a] - lo[a]) / bm));
-  };
-  const uint64_t nvx = vox(hi, 0) + 1, nvy = vox(hi, 1) + 1;
-  std::vector<std::pair<uint64_t, uint32_t>> keyed(points.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 4096), [&](const auto& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const auto& n = normals[i];
-      const uint64_t oct = (n[0] < 0 ? 1U : 0U) | (n[1] < 0 ? 2U : 0U) | (n[2] < 0 ? 4U : 0U);
-      const uint64_t v = (vox(points[i], 2) * nvy + vox(points[i], 1)) * nvx + vox(points[i], 0);
-      keyed[i] = {v * 8 + oct, static_cast<uint32_t>(i)};
-    }
-  });
-  tbb::parallel_sort(keyed.begin(), keyed.end());
-  std::vector<size_t> starts;
-  for (size_t i = 0; i < keyed.size(); ++i)
-    if (i == 0 || keyed[i].first != keyed[i - 1].first) starts.push_back(i);
-  starts.push_back(keyed.size());
+  const Buckets buckets = make_buckets(points, normals, bm);
+  const std::array<float, 3>& lo = buckets.lo;
+  const uint64_t nvx = buckets.nvx, nvy = buckets.nvy;
+  const std::vector<std::pair<uint64_t, uint32_t>>& keyed = buckets.keyed;
+  const std::vector<size_t>& starts = buckets.starts;
   out.buckets = starts.size() - 1;
 
   std::atomic<uint64_t> rays{0};
   const int cap = options.max_rays_per_point, near_cap = (cap + 1) / 2;
+  const RayCaster caster{view, poses, solids, options.end_margin_m, cap, near_cap};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, out.buckets, 4), [&](const auto& r) {
     std::vector<std::pair<double, uint32_t>> cands;  // (distance, pose), nearest first
     uint64_t local_rays = 0;
@@ -215,38 +284,7 @@ Result<ReachableTruth, std::string> reachable_truth(
         const uint32_t pi = keyed[e].second;
         const Vec3 p{points[pi][0], points[pi][1], points[pi][2]};
         const Vec3 n{normals[pi][0], normals[pi][1], normals[pi][2]};
-        Vec3 cam;
-        // the candidate that served the bucket's last point first
-        if (last >= 0 &&
-            in_view(view, poses[cands[static_cast<size_t>(last)].second], p, n, &cam)) {
-          ++local_rays;
-          if (!solids.segment_blocked(cam, p, options.end_margin_m)) {
-            out.observable[pi] = 1;
-            continue;
-          }
-        }
-        // the nearest candidates first; after near_cap lines of sight, the others in a
-        // spread order (every stride-th, then the next phase), up to cap in all
-        int cast = 0;
-        const auto try_candidate = [&](size_t k) {
-          if (static_cast<int64_t>(k) == last) return false;
-          const bool ok = in_view(view, poses[cands[k].second], p, n, &cam);
-          if (!ok) return false;
-          ++cast;
-          ++local_rays;
-          if (solids.segment_blocked(cam, p, options.end_margin_m)) return false;
-          last = static_cast<int64_t>(k);
-          return true;
-        };
-        bool found = false;
-        size_t k = 0;
-        for (; k < cands.size() && cast < near_cap && !found; ++k) found = try_candidate(k);
-        const size_t rest = cands.size() - k;
-        const size_t stride = std::max<size_t>(1, rest / static_cast<size_t>(cap - near_cap + 1));
-        for (size_t phase = 0; phase < stride && !found && cast < cap; ++phase)
-          for (size_t j = k + phase; j < cands.size() && !found && cast < cap; j += stride)
-            found = try_candidate(j);
-        if (found) out.observable[pi] = 1;
+        if (caster.observable(cands, p, n, last, local_rays)) out.observable[pi] = 1;
       }
     }
     rays += local_rays;

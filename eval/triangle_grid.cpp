@@ -86,6 +86,101 @@ void TriangleGrid::for_each_cell(size_t t, F&& f) const {
       }
 }
 
+// fills corners_ and bounds_ from the mesh; lo, hi: the mesh's bounding box
+void TriangleGrid::load_triangles(const io::TriangleMesh& mesh, Point3& lo, Point3& hi) {
+  const size_t n = mesh.triangles.size();
+  corners_.resize(n);
+  bounds_.resize(n);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  lo = {kInf, kInf, kInf};
+  hi = {-kInf, -kInf, -kInf};
+  for (size_t t = 0; t < n; ++t) {
+    auto& c = corners_[t];
+    for (size_t i = 0; i < 3; ++i) {
+      const msg::Vec3& v = mesh.vertices[mesh.triangles[t][i]];
+      c[3 * i] = v.x;
+      c[3 * i + 1] = v.y;
+      c[3 * i + 2] = v.z;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const double t_lo = std::min({c[k], c[3 + k], c[6 + k]});
+      const double t_hi = std::max({c[k], c[3 + k], c[6 + k]});
+      bounds_[t][k] = round_down(t_lo);
+      bounds_[t][3 + k] = round_up(t_hi);
+      lo[k] = std::min(lo[k], t_lo);
+      hi[k] = std::max(hi[k], t_hi);
+    }
+  }
+}
+
+// sets origin_, cell_m_ and dims_ for the box [lo, hi]; returns the number of cells
+size_t TriangleGrid::size_grid(const Point3& lo, const Point3& hi, size_t max_cells) {
+  // the grid: cells of 2 r over the mesh's box grown by r, larger if there would be too many
+  const double pad = radius_m_ * 1.001;
+  double volume = 1;
+  for (int k = 0; k < 3; ++k) {
+    origin_[k] = lo[k] - pad;
+    volume *= hi[k] - lo[k] + 2 * pad;
+  }
+  cell_m_ = std::max(cell_m_, std::cbrt(volume / static_cast<double>(max_cells)));
+  for (;;) {
+    size_t cells = 1;
+    for (int k = 0; k < 3; ++k) {
+      dims_[k] = std::max<int64_t>(
+          1, static_cast<int64_t>(std::ceil((hi[k] - lo[k] + 2 * pad) / cell_m_)));
+      cells *= static_cast<size_t>(dims_[k]);
+    }
+    if (cells <= max_cells) break;
+    cell_m_ *= 1.05;
+  }
+  return static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]);
+}
+
+// renumbers the triangles (corners_, bounds_, original_) in the order of their first cells
+void TriangleGrid::renumber() {
+  const size_t n = corners_.size();
+  // triangles renumbered in the order of the cells holding their first corners: the triangles
+  // one query tests then lie close together in memory (3x faster on a shuffled mesh)
+  std::vector<std::pair<size_t, uint32_t>> order(n);
+  for (size_t t = 0; t < n; ++t) {
+    size_t cell = 0;
+    for (int k = 2; k >= 0; --k)
+      cell = cell * static_cast<size_t>(dims_[k]) +
+             static_cast<size_t>(
+                 std::clamp(static_cast<int64_t>((corners_[t][k] - origin_[k]) / cell_m_),
+                            int64_t{0}, dims_[k] - 1));
+    order[t] = {cell, static_cast<uint32_t>(t)};
+  }
+  std::sort(order.begin(), order.end());
+  original_.resize(n);
+  std::vector<std::array<double, 9>> corners(n);
+  std::vector<std::array<float, 6>> bounds(n);
+  for (size_t t = 0; t < n; ++t) {
+    original_[t] = order[t].second;
+    corners[t] = corners_[order[t].second];
+    bounds[t] = bounds_[order[t].second];
+  }
+  corners_ = std::move(corners);
+  bounds_ = std::move(bounds);
+}
+
+// fills offsets_ and entries_, the triangles of each of the cells; the problem if too many
+std::string TriangleGrid::fill_cells(size_t cells) {
+  const size_t n = corners_.size();
+  // counting sort of (cell, triangle): count, prefix sum, fill in triangle order
+  std::vector<uint64_t> counts(cells + 1, 0);
+  for (size_t t = 0; t < n; ++t) for_each_cell(t, [&](size_t cell) { ++counts[cell + 1]; });
+  for (size_t i = 1; i <= cells; ++i) counts[i] += counts[i - 1];
+  if (counts[cells] > std::numeric_limits<uint32_t>::max())
+    return "the mesh needs " + std::to_string(counts[cells]) +
+           " grid entries, more than 2^32 (too many triangles for this radius)";
+  offsets_.assign(counts.begin(), counts.end());
+  entries_.resize(counts[cells]);
+  for (size_t t = 0; t < n; ++t)
+    for_each_cell(t, [&](size_t cell) { entries_[counts[cell]++] = static_cast<uint32_t>(t); });
+  return {};
+}
+
 Result<TriangleGrid, std::string> TriangleGrid::build(const io::TriangleMesh& mesh, double radius_m,
                                                       size_t max_cells, uint64_t max_cell_visits) {
   if (!(radius_m > 0) || !std::isfinite(radius_m))
@@ -101,47 +196,9 @@ Result<TriangleGrid, std::string> TriangleGrid::build(const io::TriangleMesh& me
     return make_unexpected("the mesh has " + std::to_string(n) + " triangles, more than 2^32");
 
   // per-triangle corners and float bounds; the mesh's bounding box
-  g.corners_.resize(n);
-  g.bounds_.resize(n);
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  Point3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
-  for (size_t t = 0; t < n; ++t) {
-    auto& c = g.corners_[t];
-    for (size_t i = 0; i < 3; ++i) {
-      const msg::Vec3& v = mesh.vertices[mesh.triangles[t][i]];
-      c[3 * i] = v.x;
-      c[3 * i + 1] = v.y;
-      c[3 * i + 2] = v.z;
-    }
-    for (int k = 0; k < 3; ++k) {
-      const double t_lo = std::min({c[k], c[3 + k], c[6 + k]});
-      const double t_hi = std::max({c[k], c[3 + k], c[6 + k]});
-      g.bounds_[t][k] = round_down(t_lo);
-      g.bounds_[t][3 + k] = round_up(t_hi);
-      lo[k] = std::min(lo[k], t_lo);
-      hi[k] = std::max(hi[k], t_hi);
-    }
-  }
-
-  // the grid: cells of 2 r over the mesh's box grown by r, larger if there would be too many
-  const double pad = radius_m * 1.001;
-  double volume = 1;
-  for (int k = 0; k < 3; ++k) {
-    g.origin_[k] = lo[k] - pad;
-    volume *= hi[k] - lo[k] + 2 * pad;
-  }
-  g.cell_m_ = std::max(g.cell_m_, std::cbrt(volume / static_cast<double>(max_cells)));
-  for (;;) {
-    size_t cells = 1;
-    for (int k = 0; k < 3; ++k) {
-      g.dims_[k] = std::max<int64_t>(
-          1, static_cast<int64_t>(std::ceil((hi[k] - lo[k] + 2 * pad) / g.cell_m_)));
-      cells *= static_cast<size_t>(g.dims_[k]);
-    }
-    if (cells <= max_cells) break;
-    g.cell_m_ *= 1.05;
-  }
-  const auto cells = static_cast<size_t>(g.dims_[0] * g.dims_[1] * g.dims_[2]);
+  Point3 lo{}, hi{};
+  g.load_triangles(mesh, lo, hi);
+  const size_t cells = g.size_grid(lo, hi, max_cells);
 
   // the build visits every cell of each triangle's box: bounded before it starts (20,000
   // triangles that each spanned the scene, a 260 KB file, took 150 s); a reconstruction's
@@ -159,41 +216,8 @@ Result<TriangleGrid, std::string> TriangleGrid::build(const io::TriangleMesh& me
                            " m: triangles far larger than the search radius " +
                            std::to_string(radius_m) + " m (not a reconstruction at this scale)");
 
-  // triangles renumbered in the order of the cells holding their first corners: the triangles
-  // one query tests then lie close together in memory (3x faster on a shuffled mesh)
-  std::vector<std::pair<size_t, uint32_t>> order(n);
-  for (size_t t = 0; t < n; ++t) {
-    size_t cell = 0;
-    for (int k = 2; k >= 0; --k)
-      cell = cell * static_cast<size_t>(g.dims_[k]) +
-             static_cast<size_t>(
-                 std::clamp(static_cast<int64_t>((g.corners_[t][k] - g.origin_[k]) / g.cell_m_),
-                            int64_t{0}, g.dims_[k] - 1));
-    order[t] = {cell, static_cast<uint32_t>(t)};
-  }
-  std::sort(order.begin(), order.end());
-  g.original_.resize(n);
-  std::vector<std::array<double, 9>> corners(n);
-  std::vector<std::array<float, 6>> bounds(n);
-  for (size_t t = 0; t < n; ++t) {
-    g.original_[t] = order[t].second;
-    corners[t] = g.corners_[order[t].second];
-    bounds[t] = g.bounds_[order[t].second];
-  }
-  g.corners_ = std::move(corners);
-  g.bounds_ = std::move(bounds);
-
-  // counting sort of (cell, triangle): count, prefix sum, fill in triangle order
-  std::vector<uint64_t> counts(cells + 1, 0);
-  for (size_t t = 0; t < n; ++t) g.for_each_cell(t, [&](size_t cell) { ++counts[cell + 1]; });
-  for (size_t i = 1; i <= cells; ++i) counts[i] += counts[i - 1];
-  if (counts[cells] > std::numeric_limits<uint32_t>::max())
-    return make_unexpected("the mesh needs " + std::to_string(counts[cells]) +
-                           " grid entries, more than 2^32 (too many triangles for this radius)");
-  g.offsets_.assign(counts.begin(), counts.end());
-  g.entries_.resize(counts[cells]);
-  for (size_t t = 0; t < n; ++t)
-    g.for_each_cell(t, [&](size_t cell) { g.entries_[counts[cell]++] = static_cast<uint32_t>(t); });
+  g.renumber();
+  if (std::string problem = g.fill_cells(cells); !problem.empty()) return make_unexpected(problem);
   return g;
 }
 

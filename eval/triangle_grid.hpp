@@ -72,6 +72,11 @@ class TriangleGrid {
   std::pair<std::array<int64_t, 3>, std::array<int64_t, 3>> cell_box(size_t t) const;
   // the radius grown a little so that rounding cannot drop a cell at exactly r
   double reach() const { return radius_m_ * (1 + 1e-6) + 1e-9; }
+  // build()'s steps (triangle_grid.cpp)
+  void load_triangles(const io::TriangleMesh& mesh, Point3& lo, Point3& hi);
+  size_t size_grid(const Point3& lo, const Point3& hi, size_t max_cells);
+  void renumber();
+  std::string fill_cells(size_t cells);
 
   double radius_m_ = 0;
   double cell_m_ = 0;

@@ -93,21 +93,17 @@ std::string check_inputs(const std::vector<CoverageSample>& samples, const PlotO
   return {};
 }
 
-}  // namespace
-
-Result<void, std::string> write_coverage_png(const std::vector<CoverageSample>& samples,
-                                             const std::string& out_png,
-                                             const PlotOptions& options) {
-  if (std::string e = check_inputs(samples, options); !e.empty())
-    return make_unexpected("coverage plot '" + out_png + "': " + e);
-  const std::string title = options.title.empty() ? "Coverage over time" : options.title;
-  const int width = options.long_side_px;
-  const int height = static_cast<int>(std::lround(width * kAspect));
-  if (samples.empty())
-    return canvas::write_png(canvas::no_data(width, height, title, "no coverage samples"), out_png);
-
-  // each robot's samples in time order; the ranges of time and of ISEs left
+// The plot's data: the samples per robot and the axes' ranges (time in s).
+struct Series {
   std::map<uint32_t, std::vector<CoverageSample>> robots;
+  double t_min = 0, t_max = 1, ise_top = 1;
+};
+
+// Groups the samples by robot and sets the axes' ranges, each ending on a tick.
+Series gather_series(const std::vector<CoverageSample>& samples) {
+  // each robot's samples in time order; the ranges of time and of ISEs left
+  Series series;
+  auto& robots = series.robots;
   for (const CoverageSample& s : samples) robots[s.robot_id].push_back(s);
   double t_min = samples.front().t_s, t_max = t_min;
   uint64_t ises_max = 0;
@@ -126,49 +122,37 @@ Result<void, std::string> write_coverage_png(const std::vector<CoverageSample>& 
   t_max = std::ceil(t_max / t_step - 1e-9) * t_step;
   double ise_step = 1;
   canvas::ticks(0, std::max<double>(1, static_cast<double>(ises_max)), 4, &ise_step, 1);
-  const double ise_top =
+  series.ise_top =
       std::max(1.0, std::ceil(static_cast<double>(ises_max) / ise_step - 1e-9) * ise_step);
+  series.t_min = t_min;
+  series.t_max = t_max;
+  return series;
+}
 
-  const canvas::Style st{.unit = width / 1000.0};
-  cv::Mat img(height, width, CV_8UC3, white);
-  const double left = kLeftMargin * st.unit;
-  const double plot_w = width - left - kRightColumn * st.unit;
-  const double panels_h = height - (kTitleBand + kBottomBand + kPanelGap) * st.unit;
-  const double top_h = panels_h * kTopPanelShare;
-  Panel cov{.px = {left, kTitleBand * st.unit, plot_w, top_h},
-            .t0 = t_min,
-            .t1 = t_max,
-            .v0 = 0,
-            .v1 = 100};
-  Panel ise{.px = {left, (kTitleBand + kPanelGap) * st.unit + top_h, plot_w, panels_h - top_h},
-            .t0 = t_min,
-            .t1 = t_max,
-            .v0 = 0,
-            .v1 = ise_top,
-            .min_v_step = 1};
-  draw_axes(img, cov, "coverage (%)", false, st);
-  draw_axes(img, ise, "ISEs left", true, st);
-  canvas::text(img, "time (s)", {left + plot_w / 2, height - 14 * st.unit}, st.font(0.55), ink,
-               st.thickness(1.4), Align::kCentre);
-
+// Draws the coverage levels as dashed lines across the coverage panel, each labelled.
+void draw_levels(cv::Mat& img, const Panel& cov, const canvas::Style& st) {
   // the 90 % and 95 % levels, labelled on a white box at the left where coverage is still low
   const cv::Scalar level_colour(110, 110, 110);
   for (const double level : kLevels) {
-    const cv::Point2d a = cov.at(t_min, level), b = cov.at(t_max, level);
+    const cv::Point2d a = cov.at(cov.t0, level), b = cov.at(cov.t1, level);
     canvas::dashed_line(img, a, b, level_colour, st.thickness(1.5), 10 * st.unit, 6 * st.unit);
   }
   for (const double level : kLevels) {
     const std::string label = canvas::tick_label(level, 1) + "%";
     const double font = st.font(0.42);
     const cv::Size size = canvas::text_size(label, font, st.thickness(1));
-    const cv::Point2d at = cov.at(t_min, level) + cv::Point2d(14 * st.unit, size.height / 2.0);
+    const cv::Point2d at = cov.at(cov.t0, level) + cv::Point2d(14 * st.unit, size.height / 2.0);
     cv::rectangle(
         img, canvas::fixed(at + cv::Point2d(-3 * st.unit, 2 * st.unit)),
         canvas::fixed(at + cv::Point2d(size.width + 3 * st.unit, -size.height - 2 * st.unit)),
         white, cv::FILLED, cv::LINE_8, canvas::kShift);
     canvas::text(img, label, at, font, level_colour, st.thickness(1));
   }
+}
 
+// Draws each robot's coverage curve and its ISEs-left steps.
+void draw_series(cv::Mat& img, const std::map<uint32_t, std::vector<CoverageSample>>& robots,
+                 const Panel& cov, const Panel& ise, const canvas::Style& st) {
   const int line = st.thickness(2.5);
   for (const auto& [id, list] : robots) {
     std::vector<cv::Point> c, e;
@@ -184,7 +168,13 @@ Result<void, std::string> write_coverage_png(const std::vector<CoverageSample>& 
     cv::polylines(img, c, false, robot_bgr(id), line, cv::LINE_AA, canvas::kShift);
     cv::polylines(img, e, false, robot_bgr(id), line, cv::LINE_AA, canvas::kShift);
   }
+}
 
+// Draws the title at the top and the robots' legend in the right column.
+void draw_title_and_legend(cv::Mat& img, const std::string& title,
+                           const std::map<uint32_t, std::vector<CoverageSample>>& robots,
+                           const canvas::Style& st) {
+  const int width = img.cols, height = img.rows;
   // title and legend
   canvas::text(img, title, {30 * st.unit, 38 * st.unit},
                canvas::fit_font(title, st.font(0.75), st.thickness(2), width - 60 * st.unit), ink,
@@ -209,6 +199,47 @@ Result<void, std::string> write_coverage_png(const std::vector<CoverageSample>& 
     y += row;
     ++shown;
   }
+}
+
+}  // namespace
+
+Result<void, std::string> write_coverage_png(const std::vector<CoverageSample>& samples,
+                                             const std::string& out_png,
+                                             const PlotOptions& options) {
+  if (std::string e = check_inputs(samples, options); !e.empty())
+    return make_unexpected("coverage plot '" + out_png + "': " + e);
+  const std::string title = options.title.empty() ? "Coverage over time" : options.title;
+  const int width = options.long_side_px;
+  const int height = static_cast<int>(std::lround(width * kAspect));
+  if (samples.empty())
+    return canvas::write_png(canvas::no_data(width, height, title, "no coverage samples"), out_png);
+
+  const Series series = gather_series(samples);
+  const canvas::Style st{.unit = width / 1000.0};
+  cv::Mat img(height, width, CV_8UC3, white);
+  const double left = kLeftMargin * st.unit;
+  const double plot_w = width - left - kRightColumn * st.unit;
+  const double panels_h = height - (kTitleBand + kBottomBand + kPanelGap) * st.unit;
+  const double top_h = panels_h * kTopPanelShare;
+  Panel cov{.px = {left, kTitleBand * st.unit, plot_w, top_h},
+            .t0 = series.t_min,
+            .t1 = series.t_max,
+            .v0 = 0,
+            .v1 = 100};
+  Panel ise{.px = {left, (kTitleBand + kPanelGap) * st.unit + top_h, plot_w, panels_h - top_h},
+            .t0 = series.t_min,
+            .t1 = series.t_max,
+            .v0 = 0,
+            .v1 = series.ise_top,
+            .min_v_step = 1};
+  draw_axes(img, cov, "coverage (%)", false, st);
+  draw_axes(img, ise, "ISEs left", true, st);
+  canvas::text(img, "time (s)", {left + plot_w / 2, height - 14 * st.unit}, st.font(0.55), ink,
+               st.thickness(1.4), Align::kCentre);
+
+  draw_levels(img, cov, st);
+  draw_series(img, series.robots, cov, ise, st);
+  draw_title_and_legend(img, title, series.robots, st);
   return canvas::write_png(img, out_png);
 }
 

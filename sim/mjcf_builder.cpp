@@ -50,35 +50,11 @@ double camera_height_m(const RobotSpec& robot) {
   return robot.camera.mount_up_m;
 }
 
-std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& robots,
-                       const MjcfOptions& o) {
-  const double sx = scene.max_m.x - scene.min_m.x, sy = scene.max_m.y - scene.min_m.y,
-               sz = scene.max_m.z - scene.min_m.z;
-  const double cx = 0.5 * (scene.min_m.x + scene.max_m.x),
-               cy = 0.5 * (scene.min_m.y + scene.max_m.y);
-  const double extent = std::sqrt(sx * sx + sy * sy + sz * sz);
-  // depth buffer range: 2 cm to 4x the scene diagonal (relative to the extent, as MuJoCo wants)
-  const double znear = 0.02 / extent, zfar = 4.0;
-  // random dots: one texel per dot, a 1024-texel texture repeated every 1024 dots
-  const double texrepeat = 1.0 / texture_period_m(scene);
+namespace {
 
-  std::ostringstream x;
-  x.precision(10);
-  x << "<mujoco model=\"" << scene.name << "\">\n"
-    << "  <compiler angle=\"radian\"/>\n"
-    << "  <option timestep=\"" << o.timestep_s << "\" gravity=\"0 0 0\" integrator=\"Euler\"/>\n"
-    << "  <statistic extent=\"" << extent << "\" center=\"" << vec(cx, cy, 0.5 * sz) << "\"/>\n"
-    << "  <visual>\n"
-    << "    <global offwidth=\"" << o.offscreen_width << "\" offheight=\"" << o.offscreen_height
-    << "\"/>\n"
-    << "    <quality offsamples=\"0\" shadowsize=\"0\"/>\n"
-    << "    <map znear=\"" << znear << "\" zfar=\"" << zfar << "\"/>\n"
-    << "    <headlight ambient=\"0.45 0.45 0.45\" diffuse=\"0.5 0.5 0.5\" specular=\"0 0 0\"/>\n"
-    << "  </visual>\n"
-    << "  <asset>\n"
-    << "    <texture name=\"dots\" type=\"2d\" builtin=\"flat\" width=\"1024\" height=\"1024\" "
-       "rgb1=\"0.35 0.35 0.35\""
-    << " mark=\"random\" random=\"0.5\" markrgb=\"0.95 0.95 0.95\"/>\n";
+// the scene's materials and meshes (inside <asset>)
+void write_materials(std::ostream& x, const SceneSpec& scene, const MjcfOptions& o,
+                     double texrepeat) {
   const auto material = [&](const std::string& name, const Rgb& c) {
     x << "    <material name=\"" << name << "\" texture=\"dots\" texuniform=\"true\" texrepeat=\""
       << texrepeat << " " << texrepeat << "\" rgba=\"" << rgb(c)
@@ -95,9 +71,11 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
       << rgb(m.color) << " 1\" specular=\"0\" shininess=\"0\"/>\n"
       << "    <mesh name=\"" << m.name << "_mesh\" file=\"" << o.mesh_files.at(i) << "\"/>\n";
   }
-  x << "    <material name=\"robot_mat\" rgba=\"0.9 0.4 0.1 1\"/>\n";
-  x << "  </asset>\n  <worldbody>\n";
+}
 
+// the floor, ceiling, walls and the scene's objects (inside <worldbody>)
+void write_scene_geoms(std::ostream& x, const SceneSpec& scene, double sx, double sy, double cx,
+                       double cy) {
   // floor, ceiling, walls
   x << "    <geom name=\"floor\" type=\"plane\" pos=\"" << vec(cx, cy, 0) << "\" size=\""
     << 0.5 * sx + 1 << " " << 0.5 * sy + 1 << " 0.1\" material=\"floor_mat\"" << kNoCollision
@@ -135,42 +113,45 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
   for (const auto& m : scene.meshes)
     x << "    <geom name=\"" << m.name << "\" type=\"mesh\" mesh=\"" << m.name
       << "_mesh\" material=\"obj_" << m.name << "\"" << kNoCollision << "/>\n";
+}
 
-  // robots
-  for (const RobotSpec& r : robots) {
-    const Eigen::Vector3d b = robot::BodyModel::of(r.kind).frame_half_m;
-    const bool ground = r.kind == RobotKind::kGround;
-    // a ground robot's body frame is on the floor under its centre; a multirotor's at its centre
-    const double z0 = ground ? 0.0 : r.start_z_m;
-    const double geom_z = ground ? b.z() + 0.02 : 0.0;
-    x << "    <body name=\"" << body_name(r) << "\" pos=\"" << vec(r.start_x_m, r.start_y_m, z0)
-      << "\">\n"
-      << "      <joint name=\"" << joint_name(r, "x")
-      << "\" type=\"slide\" axis=\"1 0 0\" damping=\"0\"/>\n"
-      << "      <joint name=\"" << joint_name(r, "y")
-      << "\" type=\"slide\" axis=\"0 1 0\" damping=\"0\"/>\n";
-    if (!ground)
-      x << "      <joint name=\"" << joint_name(r, "z") << "\" type=\"slide\" axis=\"0 0 1\"/>\n";
-    x << "      <joint name=\"" << joint_name(r, "yaw")
-      << "\" type=\"hinge\" axis=\"0 0 1\" ref=\"0\"/>\n"
-      << "      <inertial pos=\"0 0 0\" mass=\"" << kRobotMassKg << "\" diaginertia=\""
-      << vec(kRobotInertia, kRobotInertia, kRobotInertia) << "\"/>\n"
-      << "      <geom name=\"" << r.name << "_body\" type=\"box\" pos=\"" << vec(0, 0, geom_z)
-      << "\" size=\"" << vec(b.x(), b.y(), b.z()) << "\" material=\"robot_mat\""
-      << " contype=\"2\" conaffinity=\"3\"/>\n";
-    // cameras look along their -z; x right, y up: xyaxes "0 -1 0 0 0 1" looks along body +x
-    const double fov_v =
-        r.camera.fov_v_deg;  // MJCF fovy is in degrees whatever the compiler's angle unit
-    const double cam_z = camera_height_m(r);
-    const double cam_x = std::max(r.camera.mount_forward_m, b.x() + 0.01);
-    x << "      <camera name=\"" << camera_name(r, true) << "\" pos=\"" << vec(cam_x, 0, cam_z)
-      << "\" xyaxes=\"0 -1 0 0 0 1\" fovy=\"" << fov_v << "\"/>\n"
-      << "      <camera name=\"" << camera_name(r, false) << "\" pos=\""
-      << vec(cam_x, -r.camera.baseline_m, cam_z) << "\" xyaxes=\"0 -1 0 0 0 1\" fovy=\"" << fov_v
-      << "\"/>\n"
-      << "    </body>\n";
-  }
-  x << "  </worldbody>\n  <actuator>\n";
+// one robot's body: its joints, inertia, box and stereo cameras
+void write_robot(std::ostream& x, const RobotSpec& r) {
+  const Eigen::Vector3d b = robot::BodyModel::of(r.kind).frame_half_m;
+  const bool ground = r.kind == RobotKind::kGround;
+  // a ground robot's body frame is on the floor under its centre; a multirotor's at its centre
+  const double z0 = ground ? 0.0 : r.start_z_m;
+  const double geom_z = ground ? b.z() + 0.02 : 0.0;
+  x << "    <body name=\"" << body_name(r) << "\" pos=\"" << vec(r.start_x_m, r.start_y_m, z0)
+    << "\">\n"
+    << "      <joint name=\"" << joint_name(r, "x")
+    << "\" type=\"slide\" axis=\"1 0 0\" damping=\"0\"/>\n"
+    << "      <joint name=\"" << joint_name(r, "y")
+    << "\" type=\"slide\" axis=\"0 1 0\" damping=\"0\"/>\n";
+  if (!ground)
+    x << "      <joint name=\"" << joint_name(r, "z") << "\" type=\"slide\" axis=\"0 0 1\"/>\n";
+  x << "      <joint name=\"" << joint_name(r, "yaw")
+    << "\" type=\"hinge\" axis=\"0 0 1\" ref=\"0\"/>\n"
+    << "      <inertial pos=\"0 0 0\" mass=\"" << kRobotMassKg << "\" diaginertia=\""
+    << vec(kRobotInertia, kRobotInertia, kRobotInertia) << "\"/>\n"
+    << "      <geom name=\"" << r.name << "_body\" type=\"box\" pos=\"" << vec(0, 0, geom_z)
+    << "\" size=\"" << vec(b.x(), b.y(), b.z()) << "\" material=\"robot_mat\""
+    << " contype=\"2\" conaffinity=\"3\"/>\n";
+  // cameras look along their -z; x right, y up: xyaxes "0 -1 0 0 0 1" looks along body +x
+  const double fov_v =
+      r.camera.fov_v_deg;  // MJCF fovy is in degrees whatever the compiler's angle unit
+  const double cam_z = camera_height_m(r);
+  const double cam_x = std::max(r.camera.mount_forward_m, b.x() + 0.01);
+  x << "      <camera name=\"" << camera_name(r, true) << "\" pos=\"" << vec(cam_x, 0, cam_z)
+    << "\" xyaxes=\"0 -1 0 0 0 1\" fovy=\"" << fov_v << "\"/>\n"
+    << "      <camera name=\"" << camera_name(r, false) << "\" pos=\""
+    << vec(cam_x, -r.camera.baseline_m, cam_z) << "\" xyaxes=\"0 -1 0 0 0 1\" fovy=\"" << fov_v
+    << "\"/>\n"
+    << "    </body>\n";
+}
+
+// each robot's velocity actuators, one per joint
+void write_actuators(std::ostream& x, const std::vector<RobotSpec>& robots, const MjcfOptions& o) {
   for (const RobotSpec& r : robots) {
     // first-order tracking: each step removes velocity_response of the velocity error
     const double kv = o.velocity_response * kRobotMassKg / o.timestep_s;
@@ -181,6 +162,49 @@ std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& rob
       x << "    <velocity name=\"" << joint_name(r, a.c_str()) << "_vel\" joint=\""
         << joint_name(r, a.c_str()) << "\" kv=\"" << (a == "yaw" ? kv_yaw : kv) << "\"/>\n";
   }
+}
+
+}  // namespace
+
+std::string build_mjcf(const SceneSpec& scene, const std::vector<RobotSpec>& robots,
+                       const MjcfOptions& o) {
+  const double sx = scene.max_m.x - scene.min_m.x, sy = scene.max_m.y - scene.min_m.y,
+               sz = scene.max_m.z - scene.min_m.z;
+  const double cx = 0.5 * (scene.min_m.x + scene.max_m.x),
+               cy = 0.5 * (scene.min_m.y + scene.max_m.y);
+  const double extent = std::sqrt(sx * sx + sy * sy + sz * sz);
+  // depth buffer range: 2 cm to 4x the scene diagonal (relative to the extent, as MuJoCo wants)
+  const double znear = 0.02 / extent, zfar = 4.0;
+  // random dots: one texel per dot, a 1024-texel texture repeated every 1024 dots
+  const double texrepeat = 1.0 / texture_period_m(scene);
+
+  std::ostringstream x;
+  x.precision(10);
+  x << "<mujoco model=\"" << scene.name << "\">\n"
+    << "  <compiler angle=\"radian\"/>\n"
+    << "  <option timestep=\"" << o.timestep_s << "\" gravity=\"0 0 0\" integrator=\"Euler\"/>\n"
+    << "  <statistic extent=\"" << extent << "\" center=\"" << vec(cx, cy, 0.5 * sz) << "\"/>\n"
+    << "  <visual>\n"
+    << "    <global offwidth=\"" << o.offscreen_width << "\" offheight=\"" << o.offscreen_height
+    << "\"/>\n"
+    << "    <quality offsamples=\"0\" shadowsize=\"0\"/>\n"
+    << "    <map znear=\"" << znear << "\" zfar=\"" << zfar << "\"/>\n"
+    << "    <headlight ambient=\"0.45 0.45 0.45\" diffuse=\"0.5 0.5 0.5\" specular=\"0 0 0\"/>\n"
+    << "  </visual>\n"
+    << "  <asset>\n"
+    << "    <texture name=\"dots\" type=\"2d\" builtin=\"flat\" width=\"1024\" height=\"1024\" "
+       "rgb1=\"0.35 0.35 0.35\""
+    << " mark=\"random\" random=\"0.5\" markrgb=\"0.95 0.95 0.95\"/>\n";
+  write_materials(x, scene, o, texrepeat);
+  x << "    <material name=\"robot_mat\" rgba=\"0.9 0.4 0.1 1\"/>\n";
+  x << "  </asset>\n  <worldbody>\n";
+
+  write_scene_geoms(x, scene, sx, sy, cx, cy);
+
+  // robots
+  for (const RobotSpec& r : robots) write_robot(x, r);
+  x << "  </worldbody>\n  <actuator>\n";
+  write_actuators(x, robots, o);
   x << "  </actuator>\n</mujoco>\n";
   return x.str();
 }

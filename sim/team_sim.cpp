@@ -38,6 +38,46 @@ msg::Quat quat_from_mat(const mjtNum mat[9]) {
   return {q[0], q[1], q[2], q[3]};
 }
 
+// writes the MJCF (also into mjcf_text) and the scene's meshes to a private temporary
+// directory named for tag, and loads them into MuJoCo
+Result<mjModel*, std::string> load_model(const SceneSpec& scene,
+                                         const std::vector<RobotSpec>& robots, MjcfOptions mjcf,
+                                         const std::string& tag, std::string& mjcf_text) {
+  // MuJoCo loads from files: a private temporary directory with the MJCF and the placed,
+  // textured meshes (MuJoCo 2.2 reads OBJ/STL only; load_mesh reads COLLADA and more)
+  std::error_code ec;
+  const auto dir = std::filesystem::temp_directory_path() / ("scancrew_scene_" + tag);
+  std::filesystem::create_directories(dir, ec);
+  if (ec) return make_unexpected("cannot create " + dir.string() + ": " + ec.message());
+  struct RemoveDir {
+    std::filesystem::path dir;
+    ~RemoveDir() {
+      std::error_code ignored;
+      std::filesystem::remove_all(dir, ignored);
+    }
+  } remove_dir{dir};
+  auto meshes = load_scene_meshes(scene);
+  if (!meshes) return make_unexpected(meshes.error());
+  for (size_t i = 0; i < meshes->size(); ++i) {
+    mjcf.mesh_files.push_back((dir / (scene.meshes[i].name + ".obj")).string());
+    if (auto written =
+            write_textured_obj((*meshes)[i], texture_period_m(scene), mjcf.mesh_files.back());
+        !written)
+      return make_unexpected(written.error());
+  }
+  mjcf_text = build_mjcf(scene, robots, mjcf);
+  const auto file = dir / "scene.xml";
+  {
+    std::ofstream out(file);
+    out << mjcf_text;
+  }
+  char error[1000] = "";
+  mjModel* model = mj_loadXML(file.c_str(), nullptr, error, sizeof(error));
+  if (model == nullptr)
+    return make_unexpected("MuJoCo cannot load the scene '" + scene.name + "': " + error);
+  return model;
+}
+
 }  // namespace
 
 struct TeamSim::Impl {
@@ -139,6 +179,7 @@ struct TeamSim::Impl {
                                       1000);
     }
   }
+  void add_robots(const std::vector<RobotSpec>& robots, uint64_t seed);
   void to_depth(uint32_t w, uint32_t h, std::vector<float>& out) const {
     out.resize(size_t{w} * h);
     for (uint32_t y = 0; y < h; ++y)
@@ -146,6 +187,33 @@ struct TeamSim::Impl {
         out[size_t{y} * w + x] = linear_depth(depth_raw[size_t{h - 1 - y} * w + x]);
   }
 };
+
+// looks up each robot's MuJoCo ids, sets its start yaw and seeds its noise generator
+void TeamSim::Impl::add_robots(const std::vector<RobotSpec>& robots, uint64_t seed) {
+  for (size_t i = 0; i < robots.size(); ++i) {
+    const RobotSpec& r = robots[i];
+    RobotIds ids;
+    ids.body = id(mjOBJ_BODY, body_name(r));
+    ids.body_geom = id(mjOBJ_GEOM, r.name + "_body");
+    ids.cam_left = id(mjOBJ_CAMERA, camera_name(r, true));
+    ids.cam_right = id(mjOBJ_CAMERA, camera_name(r, false));
+    const auto joint = [&](const char* axis, int& qpos, int& dof, int& act) {
+      const int j = id(mjOBJ_JOINT, joint_name(r, axis));
+      if (j < 0) return;
+      qpos = model->jnt_qposadr[j];
+      dof = model->jnt_dofadr[j];
+      act = id(mjOBJ_ACTUATOR, joint_name(r, axis) + "_vel");
+    };
+    joint("x", ids.qpos_x, ids.dof_x, ids.act_x);
+    joint("y", ids.qpos_y, ids.dof_y, ids.act_y);
+    joint("z", ids.qpos_z, ids.dof_z, ids.act_z);
+    joint("yaw", ids.qpos_yaw, ids.dof_yaw, ids.act_yaw);
+    geom_robot[ids.body_geom] = static_cast<int>(i);
+    data->qpos[ids.qpos_yaw] = r.start_yaw_rad;
+    ids.rng.seed(seed * 1'000'003u + r.id);
+    this->ids.push_back(std::move(ids));
+  }
+}
 
 Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& scene,
                                                               std::vector<RobotSpec> robots,
@@ -166,68 +234,18 @@ Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& s
   }
   sim->robots_ = std::move(robots);
 
-  // MuJoCo loads from files: a private temporary directory with the MJCF and the placed,
-  // textured meshes (MuJoCo 2.2 reads OBJ/STL only; load_mesh reads COLLADA and more)
-  std::error_code ec;
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("scancrew_scene_" + std::to_string(reinterpret_cast<uintptr_t>(sim.get())));
-  std::filesystem::create_directories(dir, ec);
-  if (ec) return make_unexpected("cannot create " + dir.string() + ": " + ec.message());
-  struct RemoveDir {
-    std::filesystem::path dir;
-    ~RemoveDir() {
-      std::error_code ignored;
-      std::filesystem::remove_all(dir, ignored);
-    }
-  } remove_dir{dir};
-  auto meshes = load_scene_meshes(scene);
-  if (!meshes) return make_unexpected(meshes.error());
-  for (size_t i = 0; i < meshes->size(); ++i) {
-    mjcf.mesh_files.push_back((dir / (scene.meshes[i].name + ".obj")).string());
-    if (auto written =
-            write_textured_obj((*meshes)[i], texture_period_m(scene), mjcf.mesh_files.back());
-        !written)
-      return make_unexpected(written.error());
-  }
-  sim->mjcf_ = build_mjcf(scene, sim->robots_, mjcf);
-  const auto file = dir / "scene.xml";
-  {
-    std::ofstream out(file);
-    out << sim->mjcf_;
-  }
-  char error[1000] = "";
-  mjModel* model = mj_loadXML(file.c_str(), nullptr, error, sizeof(error));
-  if (model == nullptr)
-    return make_unexpected("MuJoCo cannot load the scene '" + scene.name + "': " + error);
+  const auto loaded =
+      load_model(scene, sim->robots_, mjcf, std::to_string(reinterpret_cast<uintptr_t>(sim.get())),
+                 sim->mjcf_);
+  if (!loaded) return make_unexpected(loaded.error());
+  mjModel* model = *loaded;
 
   auto impl = std::make_unique<Impl>();
   impl->model = model;
   impl->data = mj_makeData(model);
   impl->max_speed_factor = config.max_speed_factor;
   impl->geom_robot.assign(model->ngeom, -1);
-  for (size_t i = 0; i < sim->robots_.size(); ++i) {
-    const RobotSpec& r = sim->robots_[i];
-    RobotIds ids;
-    ids.body = impl->id(mjOBJ_BODY, body_name(r));
-    ids.body_geom = impl->id(mjOBJ_GEOM, r.name + "_body");
-    ids.cam_left = impl->id(mjOBJ_CAMERA, camera_name(r, true));
-    ids.cam_right = impl->id(mjOBJ_CAMERA, camera_name(r, false));
-    const auto joint = [&](const char* axis, int& qpos, int& dof, int& act) {
-      const int j = impl->id(mjOBJ_JOINT, joint_name(r, axis));
-      if (j < 0) return;
-      qpos = model->jnt_qposadr[j];
-      dof = model->jnt_dofadr[j];
-      act = impl->id(mjOBJ_ACTUATOR, joint_name(r, axis) + "_vel");
-    };
-    joint("x", ids.qpos_x, ids.dof_x, ids.act_x);
-    joint("y", ids.qpos_y, ids.dof_y, ids.act_y);
-    joint("z", ids.qpos_z, ids.dof_z, ids.act_z);
-    joint("yaw", ids.qpos_yaw, ids.dof_yaw, ids.act_yaw);
-    impl->geom_robot[ids.body_geom] = static_cast<int>(i);
-    impl->data->qpos[ids.qpos_yaw] = r.start_yaw_rad;
-    ids.rng.seed(config.seed * 1'000'003u + r.id);
-    impl->ids.push_back(std::move(ids));
-  }
+  impl->add_robots(sim->robots_, config.seed);
   mj_forward(model, impl->data);
 
   // a robot must not start inside an obstacle or another robot

@@ -348,16 +348,63 @@ Json to_json(const std::vector<DdsLatencyResult>& latency,
   return out;
 }
 
-}  // namespace
-
-int run_dds_bench(const DdsBenchOptions& options) {
-  const Plan plan = plan_of(options);
+// The pairs' common set-up: a domain and partition of this process's own, the options' depth
+// and poll period (no keys yet).
+PairSetup pair_setup(const DdsBenchOptions& options) {
   const uint32_t pid = static_cast<uint32_t>(::getpid());
   PairSetup setup;
   setup.domain_id = 10 + pid % 200;
   setup.partition = "scancrew_bench_dds_" + std::to_string(pid);
   setup.depth = options.depth;
   setup.bridge_poll_period_s = options.bridge_poll_period_s;
+  return setup;
+}
+
+// Measures one pair's latency at every payload of the plan and appends the results, the UDP
+// drops counted; progress on stderr unless --json.
+void add_latencies(DdsPair& pair, Arrivals& arrivals, uint32_t& phase, const Plan& plan,
+                   const DdsBenchOptions& options, const char* system, bool secure,
+                   std::mt19937& rng, std::vector<DdsLatencyResult>& latency) {
+  for (const size_t payload : plan.payloads) {
+    const int64_t drops = udp_rcvbuf_errors();
+    DdsLatencyResult r = measure_latency(pair, arrivals, phase, payload, plan.samples, rng);
+    r.rcvbuf_drops = drops_since(drops);
+    r.system = system;
+    r.secure = secure;
+    latency.push_back(r);
+    if (!options.json)
+      std::fprintf(stderr, "  %s security %s %s: p50 %.1f us, %zu lost\n", system, on_off(secure),
+                   payload_label(payload).c_str(), r.p50_us, r.lost());
+  }
+}
+
+// Measures one pair's throughput at the burst payload, the UDP drops counted.
+DdsThroughputResult pair_throughput(DdsPair& pair, Arrivals& arrivals, uint32_t& phase,
+                                    const Plan& plan, const DdsBenchOptions& options,
+                                    const char* system, bool secure) {
+  const int64_t drops = udp_rcvbuf_errors();
+  DdsThroughputResult t = measure_throughput(pair, arrivals, phase, options.burst_payload_bytes,
+                                             plan.burst, plan.bursts, plan.window);
+  t.rcvbuf_drops = drops_since(drops);
+  t.system = system;
+  t.secure = secure;
+  return t;
+}
+
+// The messages lost over every latency and throughput case.
+size_t lost_messages(const std::vector<DdsLatencyResult>& latency,
+                     const std::vector<DdsThroughputResult>& throughput) {
+  size_t lost = 0;
+  for (const DdsLatencyResult& r : latency) lost += r.lost();
+  for (const DdsThroughputResult& r : throughput) lost += r.lost();
+  return lost;
+}
+
+}  // namespace
+
+int run_dds_bench(const DdsBenchOptions& options) {
+  const Plan plan = plan_of(options);
+  PairSetup setup = pair_setup(options);
   auto keys = make_keys();
   if (!keys) {
     std::fprintf(stderr, "bench dds: cannot make the team's keys: %s\n", keys.error().c_str());
@@ -393,24 +440,9 @@ int run_dds_bench(const DdsBenchOptions& options) {
         status = 2;
         continue;
       }
-      for (const size_t payload : plan.payloads) {
-        const int64_t drops = udp_rcvbuf_errors();
-        DdsLatencyResult r = measure_latency(**pair, arrivals, phase, payload, plan.samples, rng);
-        r.rcvbuf_drops = drops_since(drops);
-        r.system = system;
-        r.secure = secure;
-        latency.push_back(r);
-        if (!options.json)
-          std::fprintf(stderr, "  %s security %s %s: p50 %.1f us, %zu lost\n", system,
-                       on_off(secure), payload_label(payload).c_str(), r.p50_us, r.lost());
-      }
-      const int64_t drops = udp_rcvbuf_errors();
-      DdsThroughputResult t =
-          measure_throughput(**pair, arrivals, phase, options.burst_payload_bytes, plan.burst,
-                             plan.bursts, plan.window);
-      t.rcvbuf_drops = drops_since(drops);
-      t.system = system;
-      t.secure = secure;
+      add_latencies(**pair, arrivals, phase, plan, options, system, secure, rng, latency);
+      const DdsThroughputResult t =
+          pair_throughput(**pair, arrivals, phase, plan, options, system, secure);
       throughput.push_back(t);
       watchdog.arm("tearing down " + name, 60);
       pair->reset();
@@ -429,9 +461,7 @@ int run_dds_bench(const DdsBenchOptions& options) {
     std::printf("%s\n", to_json(latency, throughput, costs, options, load).dump().c_str());
   else
     print_tables(latency, throughput, costs, plan.window, load);
-  size_t lost = 0;
-  for (const DdsLatencyResult& r : latency) lost += r.lost();
-  for (const DdsThroughputResult& r : throughput) lost += r.lost();
+  const size_t lost = lost_messages(latency, throughput);
   if (lost > 0) {
     std::fprintf(stderr, "bench dds: %zu messages lost\n", lost);
     status = std::max(status, 1);

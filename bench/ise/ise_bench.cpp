@@ -283,6 +283,99 @@ bool wanted(const IseBenchOptions& o, const std::string& scene) {
   return o.scenes.empty() || std::find(o.scenes.begin(), o.scenes.end(), scene) != o.scenes.end();
 }
 
+// Renders the parking lot's depth sequence, feeds each frame to run and records the
+// sequence in `sequence`; false (after a message) when rendering or an update fails.
+bool feed_parking_lot(const sim::SceneSpec& scene, const Case& c, int frames, uint64_t seed,
+                      Incremental& run, Json& sequence) {
+  // the TSDF bench's loop, a frame every 0.4 s (0.2 m) rather than its 1.5 s
+  auto seq = render_depth_sequence(scene, {.width = 320,
+                                           .height = 256,
+                                           .frames = frames,
+                                           .frame_period_s = 0.4,
+                                           .min_range_m = c.tsdf.min_range_m,
+                                           .max_range_m = c.tsdf.max_range_m,
+                                           .seed = seed});
+  if (!seq) {
+    std::fprintf(stderr, "bench ise: rendering %s failed: %s\n", c.scene.c_str(),
+                 seq.error().c_str());
+    return false;
+  }
+  sequence.update({{"width", seq->intrinsics.width},
+                   {"height", seq->intrinsics.height},
+                   {"frames", seq->depth_m.size()},
+                   {"travelled_m", seq->driven_m},
+                   {"sim_s", seq->sim_s},
+                   {"render_wall_s", seq->wall_s}});
+  std::fprintf(stderr, "%s voxel %.1f m: %zu updates\n", c.scene.c_str(), c.tsdf.voxel_m,
+               seq->depth_m.size());
+  for (size_t i = 0; i < seq->depth_m.size(); ++i)
+    if (auto r = run.add(depth_frame(seq->depth_m[i], seq->intrinsics, seq->T_world_cam[i])); !r) {
+      std::fprintf(stderr, "bench ise: %s\n", r.error().c_str());
+      return false;
+    }
+  return true;
+}
+
+// Flies the powerplant lap, feeding each frame to run as it comes, and records the
+// sequence in `sequence`; false (after a message) when the flight or an update fails.
+bool feed_powerplant(const sim::SceneSpec& scene, const Case& c, const IseBenchOptions& o,
+                     int frames, Incremental& run, Json& sequence) {
+  // integrated and updated as the frames come (a dense lap is too many frames to keep)
+  FlightSequenceOptions flight;
+  flight.frames = frames;
+  if (o.quick) {  // the first tenth of the lap at the same density; f = 188 px
+    flight.lap_fraction = 0.1;
+    flight.width = 376;
+    flight.height = 217;
+  }
+  flight.min_range_m = c.tsdf.min_range_m;
+  flight.max_range_m = c.tsdf.max_range_m;
+  flight.seed = o.seed;
+  std::fprintf(stderr, "%s voxel %.1f m: an update per frame\n", c.scene.c_str(), c.tsdf.voxel_m);
+  const auto lap = fly_lap(scene, flight, [&](const msg::DepthImage& d) {
+    return run.add(depth_frame(d.depth_m, d.intrinsics, d.T_world_cam));
+  });
+  if (!lap) {
+    std::fprintf(stderr, "bench ise: %s: %s\n", c.scene.c_str(), lap.error().c_str());
+    return false;
+  }
+  sequence.update(
+      {{"width", lap->intrinsics.width},
+       {"height", lap->intrinsics.height},
+       {"frames", lap->frames},
+       {"travelled_m", lap->flown_m},
+       {"sim_s", lap->sim_s},
+       {"render_wall_s", lap->render_s},
+       {"altitude_m",
+        {flight.altitude_m - flight.altitude_swing_m, flight.altitude_m + flight.altitude_swing_m}},
+       {"standoff_m", flight.standoff_m}});
+  return true;
+}
+
+// Times full() on the run's final map and appends the case's row to out["results"]; false
+// (after a message) when there is no frame or full() fails.
+bool add_result(const Case& c, const Incremental& run, int repeats, size_t warmup, Json& out) {
+  if (run.last() == nullptr) {
+    std::fprintf(stderr, "bench ise: %s: no frame\n", c.scene.c_str());
+    return false;
+  }
+  const auto full = time_full(c, *run.last(), repeats);
+  if (!full) {
+    std::fprintf(stderr, "bench ise: %s: %s\n", c.scene.c_str(), full.error().c_str());
+    return false;
+  }
+  const Json r = row(c, run, *full, warmup);
+  std::fprintf(stderr,
+               "%s: %zu ISEs, %zu viewpoints, %zu clusters; incremental %.2f ms (p95 %.2f), "
+               "full %.1f ms%s\n",
+               c.scene.c_str(), r["ises"].get<size_t>(), r["viewpoints"].get<size_t>(),
+               r["clusters"].get<size_t>(), r["incremental_ms"].get<double>(),
+               r["incremental_ms_p95"].get<double>(), r["full_ms"].get<double>(),
+               r["matches_full"].get<bool>() ? "" : " (update and full disagree)");
+  out["results"].push_back(r);
+  return true;
+}
+
 }  // namespace
 
 int run_ise_bench(const IseBenchOptions& o) {
@@ -322,88 +415,12 @@ int run_ise_bench(const IseBenchOptions& o) {
     }
     Incremental run(c, std::move(pipeline).value());
     Json sequence = {{"scene", c.scene}};
-    if (parking) {
-      // the TSDF bench's loop, a frame every 0.4 s (0.2 m) rather than its 1.5 s
-      auto seq = render_depth_sequence(*scene, {.width = 320,
-                                                .height = 256,
-                                                .frames = parking_frames,
-                                                .frame_period_s = 0.4,
-                                                .min_range_m = c.tsdf.min_range_m,
-                                                .max_range_m = c.tsdf.max_range_m,
-                                                .seed = o.seed});
-      if (!seq) {
-        std::fprintf(stderr, "bench ise: rendering %s failed: %s\n", c.scene.c_str(),
-                     seq.error().c_str());
-        return 1;
-      }
-      sequence.update({{"width", seq->intrinsics.width},
-                       {"height", seq->intrinsics.height},
-                       {"frames", seq->depth_m.size()},
-                       {"travelled_m", seq->driven_m},
-                       {"sim_s", seq->sim_s},
-                       {"render_wall_s", seq->wall_s}});
-      std::fprintf(stderr, "%s voxel %.1f m: %zu updates\n", c.scene.c_str(), c.tsdf.voxel_m,
-                   seq->depth_m.size());
-      for (size_t i = 0; i < seq->depth_m.size(); ++i)
-        if (auto r = run.add(depth_frame(seq->depth_m[i], seq->intrinsics, seq->T_world_cam[i]));
-            !r) {
-          std::fprintf(stderr, "bench ise: %s\n", r.error().c_str());
-          return 1;
-        }
-    } else {
-      // integrated and updated as the frames come (a dense lap is too many frames to keep)
-      FlightSequenceOptions flight;
-      flight.frames = powerplant_frames;
-      if (o.quick) {  // the first tenth of the lap at the same density; f = 188 px
-        flight.lap_fraction = 0.1;
-        flight.width = 376;
-        flight.height = 217;
-      }
-      flight.min_range_m = c.tsdf.min_range_m;
-      flight.max_range_m = c.tsdf.max_range_m;
-      flight.seed = o.seed;
-      std::fprintf(stderr, "%s voxel %.1f m: an update per frame\n", c.scene.c_str(),
-                   c.tsdf.voxel_m);
-      const auto lap = fly_lap(*scene, flight, [&](const msg::DepthImage& d) {
-        return run.add(depth_frame(d.depth_m, d.intrinsics, d.T_world_cam));
-      });
-      if (!lap) {
-        std::fprintf(stderr, "bench ise: %s: %s\n", c.scene.c_str(), lap.error().c_str());
-        return 1;
-      }
-      sequence.update({{"width", lap->intrinsics.width},
-                       {"height", lap->intrinsics.height},
-                       {"frames", lap->frames},
-                       {"travelled_m", lap->flown_m},
-                       {"sim_s", lap->sim_s},
-                       {"render_wall_s", lap->render_s},
-                       {"altitude_m",
-                        {flight.altitude_m - flight.altitude_swing_m,
-                         flight.altitude_m + flight.altitude_swing_m}},
-                       {"standoff_m", flight.standoff_m}});
-    }
+    const bool fed = parking ? feed_parking_lot(*scene, c, parking_frames, o.seed, run, sequence)
+                             : feed_powerplant(*scene, c, o, powerplant_frames, run, sequence);
+    if (!fed) return 1;
     sequence["depth_range_m"] = {c.tsdf.min_range_m, c.tsdf.max_range_m};
     out["sequences"].push_back(sequence);
-    if (run.last() == nullptr) {
-      std::fprintf(stderr, "bench ise: %s: no frame\n", c.scene.c_str());
-      ++failures;
-      continue;
-    }
-    const auto full = time_full(c, *run.last(), repeats);
-    if (!full) {
-      std::fprintf(stderr, "bench ise: %s: %s\n", c.scene.c_str(), full.error().c_str());
-      ++failures;
-      continue;
-    }
-    const Json r = row(c, run, *full, warmup);
-    std::fprintf(stderr,
-                 "%s: %zu ISEs, %zu viewpoints, %zu clusters; incremental %.2f ms (p95 %.2f), "
-                 "full %.1f ms%s\n",
-                 c.scene.c_str(), r["ises"].get<size_t>(), r["viewpoints"].get<size_t>(),
-                 r["clusters"].get<size_t>(), r["incremental_ms"].get<double>(),
-                 r["incremental_ms_p95"].get<double>(), r["full_ms"].get<double>(),
-                 r["matches_full"].get<bool>() ? "" : " (update and full disagree)");
-    out["results"].push_back(r);
+    if (!add_result(c, run, repeats, warmup, out)) ++failures;
   }
   out["load_average_1min"].push_back(load_average());
   add_targets(out);

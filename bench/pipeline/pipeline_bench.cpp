@@ -88,9 +88,9 @@ std::optional<ImageSize> parse_size(const std::string& s) {
   return ImageSize{.width = w, .height = h};
 }
 
-}  // namespace
-
-int run_pipeline_bench(const PipelineBenchOptions& o) {
+// The image sizes asked for (the defaults when none); nullopt (after a message) when one is
+// not WxH.
+std::optional<std::vector<ImageSize>> parse_sizes(const PipelineBenchOptions& o) {
   std::vector<ImageSize> sizes;
   for (const std::string& s :
        o.sizes.empty() ? std::vector<std::string>{"320x256", "640x480"} : o.sizes) {
@@ -98,10 +98,107 @@ int run_pipeline_bench(const PipelineBenchOptions& o) {
     if (!size) {
       std::fprintf(stderr, "bench pipeline: image size '%s' is not WxH (16..8192 each)\n",
                    s.c_str());
-      return 2;
+      return std::nullopt;
     }
     sizes.push_back(*size);
   }
+  return sizes;
+}
+
+// The trials at one image size and the rate search's bounds.
+struct RateSearch {
+  std::vector<Trial> trials;  // the nominal rate's first
+  double lo = 0;              // the highest sustained rate found
+  double hi = 0;              // the lowest failing rate found; 0: none
+};
+
+// Runs one trial at rate, prints its line and appends it to trials; false (after a message)
+// when it fails.
+bool add_trial(const PipelineBenchOptions& o, const ImageSize& size,
+               const std::vector<FrameCapture::Pair>& pairs, double rate,
+               std::vector<Trial>& trials) {
+  auto t = run_trial(o, size, pairs, rate);
+  if (!t) {
+    std::fprintf(stderr, "bench pipeline: %s\n", t.error().c_str());
+    return false;
+  }
+  print_trial_line(*t);
+  trials.push_back(std::move(t).value());
+  return true;
+}
+
+// Runs the unreported warm-up trial, the nominal rate's trial and the search for the highest
+// sustained rate; nullopt (after a message) when a trial fails.
+std::optional<RateSearch> search_rates(const PipelineBenchOptions& o, const ImageSize& size,
+                                       const std::vector<FrameCapture::Pair>& pairs,
+                                       int max_trials) {
+  RateSearch r;
+  {
+    auto warmup =
+        run_trial(o, size, std::span(pairs).first(std::min<size_t>(kWarmupPairs, pairs.size())),
+                  o.nominal_rate_hz);
+    if (!warmup) {
+      std::fprintf(stderr, "bench pipeline: %s\n", warmup.error().c_str());
+      return std::nullopt;
+    }
+  }
+  if (!add_trial(o, size, pairs, o.nominal_rate_hz, r.trials)) return std::nullopt;
+  // 3. the highest sustained rate: doubling, then bisection (geometric)
+  double lo = r.trials.front().sustained() ? o.nominal_rate_hz : 0;
+  double hi = r.trials.front().sustained() ? 0 : o.nominal_rate_hz;
+  for (int k = 0; k < max_trials; ++k) {
+    double rate = 0;
+    if (hi == 0)
+      rate = std::min(2 * lo, kMaxRateHz);
+    else if (lo == 0)
+      rate = hi / 2;
+    else if (hi / lo <= 1 + o.tolerance)
+      break;
+    else
+      rate = std::sqrt(lo * hi);
+    if ((hi == 0 && lo >= kMaxRateHz) || (lo == 0 && rate < 0.1)) break;
+    if (!add_trial(o, size, pairs, rate, r.trials)) return std::nullopt;
+    (r.trials.back().sustained() ? lo : hi) = rate;
+  }
+  r.lo = lo;
+  r.hi = hi;
+  return r;
+}
+
+// The size's entry in out["sizes"]: its nominal, highest sustained and every trial.
+Json size_json(const ImageSize& size, const RateSearch& r, const Trial* at_max) {
+  Json s{{"width", size.width},
+         {"height", size.height},
+         {"num_disparities", size.num_disparities()},
+         {"nominal", to_json(r.trials.front())},
+         {"max_rate_hz", r.lo},
+         {"first_failing_rate_hz", r.hi > 0 ? Json(r.hi) : Json(nullptr)},
+         {"at_max_rate", at_max != nullptr ? to_json(*at_max) : Json(nullptr)}};
+  Json all = Json::array();
+  for (const Trial& t : r.trials) all.push_back(to_json(t));
+  s["trials"] = all;
+  return s;
+}
+
+// Prints the size's stage tables and highest sustained rate as text.
+void print_size(const PipelineBenchOptions& o, const ImageSize& size, uint32_t frames,
+                const RateSearch& r, const Trial* at_max) {
+  std::printf("%u x %u (SGBM %u disparities, %zu executor threads, %u pairs per trial)\n",
+              size.width, size.height, size.num_disparities(), o.threads, frames);
+  print_stages("nominal rate", r.trials.front());
+  if (at_max != nullptr && at_max != &r.trials.front()) print_stages("highest sustained", *at_max);
+  std::printf("  highest sustained camera rate: %.2f Hz", r.lo);
+  if (r.hi > 0)
+    std::printf(" (%.2f Hz dropped frames)\n", r.hi);
+  else
+    std::printf(" (a lower bound: no failing rate found)\n");
+}
+
+}  // namespace
+
+int run_pipeline_bench(const PipelineBenchOptions& o) {
+  const auto sizes = parse_sizes(o);
+  if (!sizes) return 2;
   if (!(o.nominal_rate_hz > 0) || o.threads == 0 || !(o.tolerance > 0)) {
     std::fprintf(stderr, "bench pipeline: the rate, threads and tolerance must be positive\n");
     return 2;
@@ -122,7 +219,7 @@ int run_pipeline_bench(const PipelineBenchOptions& o) {
       "does; sustained = every pair integrated into the map";
   out["load_avg_before"] = load_average();
   out["sizes"] = Json::array();
-  for (const ImageSize& size : sizes) {
+  for (const ImageSize& size : *sizes) {
     std::fprintf(stderr, "bench pipeline: %ux%u: capturing %u stereo pairs\n", size.width,
                  size.height, frames);
     auto pairs = capture(o, size, frames);
@@ -130,72 +227,15 @@ int run_pipeline_bench(const PipelineBenchOptions& o) {
       std::fprintf(stderr, "bench pipeline: %s\n", pairs.error().c_str());
       return 1;
     }
-    std::vector<Trial> trials;
-    const auto trial = [&](double rate) -> bool {
-      auto t = run_trial(o, size, *pairs, rate);
-      if (!t) {
-        std::fprintf(stderr, "bench pipeline: %s\n", t.error().c_str());
-        return false;
-      }
-      print_trial_line(*t);
-      trials.push_back(std::move(t).value());
-      return true;
-    };
-    {
-      auto warmup =
-          run_trial(o, size, std::span(*pairs).first(std::min<size_t>(kWarmupPairs, pairs->size())),
-                    o.nominal_rate_hz);
-      if (!warmup) {
-        std::fprintf(stderr, "bench pipeline: %s\n", warmup.error().c_str());
-        return 1;
-      }
-    }
-    if (!trial(o.nominal_rate_hz)) return 1;
-    // 3. the highest sustained rate: doubling, then bisection (geometric)
-    double lo = trials.front().sustained() ? o.nominal_rate_hz : 0;
-    double hi = trials.front().sustained() ? 0 : o.nominal_rate_hz;
-    for (int k = 0; k < max_trials; ++k) {
-      double rate = 0;
-      if (hi == 0)
-        rate = std::min(2 * lo, kMaxRateHz);
-      else if (lo == 0)
-        rate = hi / 2;
-      else if (hi / lo <= 1 + o.tolerance)
-        break;
-      else
-        rate = std::sqrt(lo * hi);
-      if ((hi == 0 && lo >= kMaxRateHz) || (lo == 0 && rate < 0.1)) break;
-      if (!trial(rate)) return 1;
-      (trials.back().sustained() ? lo : hi) = rate;
-    }
+    const auto search = search_rates(o, size, *pairs, max_trials);
+    if (!search) return 1;
     const Trial* at_max = nullptr;
-    for (const Trial& t : trials)
-      if (t.sustained() && t.rate_hz == lo) at_max = &t;
+    for (const Trial& t : search->trials)
+      if (t.sustained() && t.rate_hz == search->lo) at_max = &t;
 
-    Json s{{"width", size.width},
-           {"height", size.height},
-           {"num_disparities", size.num_disparities()},
-           {"nominal", to_json(trials.front())},
-           {"max_rate_hz", lo},
-           {"first_failing_rate_hz", hi > 0 ? Json(hi) : Json(nullptr)},
-           {"at_max_rate", at_max != nullptr ? to_json(*at_max) : Json(nullptr)}};
-    Json all = Json::array();
-    for (const Trial& t : trials) all.push_back(to_json(t));
-    s["trials"] = all;
-    out["sizes"].push_back(s);
+    out["sizes"].push_back(size_json(size, *search, at_max));
 
-    if (!o.json) {
-      std::printf("%u x %u (SGBM %u disparities, %zu executor threads, %u pairs per trial)\n",
-                  size.width, size.height, size.num_disparities(), o.threads, frames);
-      print_stages("nominal rate", trials.front());
-      if (at_max != nullptr && at_max != &trials.front())
-        print_stages("highest sustained", *at_max);
-      std::printf("  highest sustained camera rate: %.2f Hz", lo);
-      if (hi > 0)
-        std::printf(" (%.2f Hz dropped frames)\n", hi);
-      else
-        std::printf(" (a lower bound: no failing rate found)\n");
-    }
+    if (!o.json) print_size(o, size, frames, *search, at_max);
   }
   out["load_avg_after"] = load_average();
   if (o.json) std::printf("%s\n", out.dump().c_str());

@@ -12,6 +12,7 @@
 
 #include "bench/bench_stats.hpp"
 #include "bench/ise/flight_sequence.hpp"
+#include "bench/planner/query_endpoints.hpp"
 #include "bench/tsdf/depth_sequence.hpp"
 #include "core/motion/motion_planner.hpp"
 #include "core/motion/obstacle_geometry.hpp"
@@ -215,63 +216,27 @@ struct Tally {
 Json run_queries(const Case& c, Run& run, const motion::ObstacleGeometry& truth, int queries,
                  int firsts, uint64_t seed) {
   // query ends: the robot's poses that are free in the final map
-  std::vector<msg::Waypoint> free;
+  std::vector<msg::Waypoint> free = free_robot_poses(run.poses, c.planner, run.planner);
   size_t truly_colliding = 0;  // free in the map, not in the true geometry (should be none)
   PlannerConfig bare = c.planner;
   bare.body_margin_m = 0;
   const robot::BodyModel true_body = motion::body_of(bare);
-  for (size_t i = 0; i < run.poses.size(); i += 2) {
-    const msg::Waypoint& p = run.poses[i];
-    const bool in_band = c.planner.robot_kind == robot::RobotKind::kGround ||
-                         (p.position.z > c.planner.multirotor_min_altitude_m &&
-                          p.position.z < c.planner.multirotor_max_altitude_m);
-    if (!in_band || !run.planner.is_free(p)) continue;
-    free.push_back(p);
-  }
   // too few (the multirotor's own lap is never in its camera's view, so with unknown space
   // occupied none of its poses is free): free positions drawn in the map's box instead
   std::mt19937_64 rng(seed);
   const size_t robot_poses = free.size();
-  if (free.size() < kMinEndpoints) {
-    Eigen::AlignedBox3d box;
-    const double block_m = run.last->voxel_m() * tsdf::kBlockSide;
-    for (const auto& [index, block] : run.last->blocks()) {
-      box.extend(index.cast<double>() * block_m);
-      box.extend((index + Eigen::Vector3i::Ones()).cast<double>() * block_m);
-    }
-    std::uniform_real_distribution<double> u(0, 1), yaw(-M_PI, M_PI);
-    for (int tries = 0; free.size() < kRandomEndpoints && tries < 200000; ++tries) {
-      msg::Waypoint w;
-      w.position = {box.min().x() + u(rng) * box.sizes().x(),
-                    box.min().y() + u(rng) * box.sizes().y(),
-                    std::clamp(box.min().z() + u(rng) * box.sizes().z(),
-                               c.planner.multirotor_min_altitude_m + 0.01,
-                               c.planner.multirotor_max_altitude_m - 0.01)};
-      if (c.planner.robot_kind == robot::RobotKind::kGround) w.position.z = 0;
-      w.yaw_rad = yaw(rng);
-      if (run.planner.is_free(w)) free.push_back(w);
-    }
-  }
+  if (free.size() < kMinEndpoints)
+    add_random_free_positions(*run.last, c.planner, run.planner, kRandomEndpoints, rng, free);
   for (const msg::Waypoint& p : free)
     if (truth.collides(true_body, motion::body_pose(c.planner, p))) ++truly_colliding;
-  std::vector<std::pair<msg::Waypoint, msg::Waypoint>> pairs;
-  if (free.size() >= 2) {
-    std::uniform_int_distribution<size_t> pick(0, free.size() - 1);
-    for (int tries = 0; pairs.size() < static_cast<size_t>(queries) + static_cast<size_t>(firsts) &&
-                        tries < 100000;
-         ++tries) {
-      const msg::Waypoint& a = free[pick(rng)];
-      const msg::Waypoint& b = free[pick(rng)];
-      const double d = std::hypot(a.position.x - b.position.x, a.position.y - b.position.y,
-                                  a.position.z - b.position.z);
-      if (d >= c.min_query_m) pairs.emplace_back(a, b);
-    }
-  }
+  const size_t wanted_pairs = static_cast<size_t>(queries) + static_cast<size_t>(firsts);
+  const std::vector<std::pair<msg::Waypoint, msg::Waypoint>> pairs =
+      draw_query_pairs(free, wanted_pairs, c.min_query_m, rng);
   Json j;
   j["free_poses"] = free.size();
   j["robot_poses_free"] = robot_poses;
   j["free_poses_colliding"] = truly_colliding;
-  if (pairs.size() < static_cast<size_t>(queries) + static_cast<size_t>(firsts)) {
+  if (pairs.size() < wanted_pairs) {
     j["error"] = "too few free poses to draw the queries from";
     return j;
   }
@@ -370,6 +335,80 @@ bool wanted(const PlannerBenchOptions& o, const std::string& scene) {
   return o.scenes.empty() || std::find(o.scenes.begin(), o.scenes.end(), scene) != o.scenes.end();
 }
 
+// Builds the parking lot's map from the TSDF bench's depth sequence into run; false (after a
+// message) when rendering or a frame fails.
+bool feed_parking_lot(const sim::SceneSpec& scene, const Case& c, int frames, uint64_t seed,
+                      Run& run) {
+  auto seq = render_depth_sequence(scene, {.width = 320,
+                                           .height = 256,
+                                           .frames = frames,
+                                           .frame_period_s = 0.4,
+                                           .min_range_m = c.tsdf.min_range_m,
+                                           .max_range_m = c.tsdf.max_range_m,
+                                           .seed = seed});
+  if (!seq) {
+    std::fprintf(stderr, "bench planner: rendering %s failed: %s\n", c.scene.c_str(),
+                 seq.error().c_str());
+    return false;
+  }
+  for (size_t i = 0; i < seq->depth_m.size(); ++i)
+    if (auto r = run.add(depth_frame(seq->depth_m[i], seq->intrinsics, seq->T_world_cam[i])); !r) {
+      std::fprintf(stderr, "bench planner: %s\n", r.error().c_str());
+      return false;
+    }
+  return true;
+}
+
+// Builds the powerplant's map from the ISE bench's lap into run, frame by frame; false
+// (after a message) when the flight or a frame fails.
+bool feed_powerplant(const sim::SceneSpec& scene, const Case& c, const PlannerBenchOptions& o,
+                     int frames, Run& run) {
+  FlightSequenceOptions flight;
+  flight.frames = frames;
+  if (o.quick) {
+    flight.lap_fraction = 0.1;
+    flight.width = 376;
+    flight.height = 217;
+  }
+  flight.min_range_m = c.tsdf.min_range_m;
+  flight.max_range_m = c.tsdf.max_range_m;
+  flight.seed = o.seed;
+  const auto lap = fly_lap(scene, flight, [&](const msg::DepthImage& d) {
+    return run.add(depth_frame(d.depth_m, d.intrinsics, d.T_world_cam));
+  });
+  if (!lap) {
+    std::fprintf(stderr, "bench planner: %s: %s\n", c.scene.c_str(), lap.error().c_str());
+    return false;
+  }
+  return true;
+}
+
+// Adds the map's figures, the queries' and the planner's settings to row and reports it on
+// stderr; false when the queries failed.
+bool add_query_figures(const Case& c, Run& run, const motion::ObstacleGeometry& truth, int queries,
+                       int firsts, uint64_t seed, Json& row) {
+  row["frames"] = run.update_ms.size();
+  row["map_blocks"] = run.last->block_count();
+  row["map_update_ms"] = {{"mean", mean(run.update_ms)}, {"max", max_of(run.update_ms)}};
+  row.update(run_queries(c, run, truth, queries, firsts, seed));
+  row["body_radii_m"] = {motion::body_of(c.planner).safety_radii_m.x(),
+                         motion::body_of(c.planner).safety_radii_m.y(),
+                         motion::body_of(c.planner).safety_radii_m.z()};
+  row["body_margin_m"] = c.planner.body_margin_m;
+  row["unknown_is_occupied"] = c.planner.unknown_is_occupied;
+  row["time_limit_s"] = c.planner.planner_time_limit_s;
+  if (row.contains("error")) {
+    std::fprintf(stderr, "bench planner: %s: %s\n", c.scene.c_str(),
+                 row["error"].get<std::string>().c_str());
+    return false;
+  }
+  std::fprintf(stderr, "%s: reused median %.2f ms (p95 %.2f), first %.2f ms; %zu/%zu colliding\n",
+               c.scene.c_str(), row["reused_ms"]["median"].get<double>(),
+               row["reused_ms"]["p95"].get<double>(), row["first_query_ms"]["median"].get<double>(),
+               row["paths_colliding"].get<size_t>(), row["paths_checked"].get<size_t>());
+  return true;
+}
+
 }  // namespace
 
 int run_planner_bench(const PlannerBenchOptions& o) {
@@ -419,70 +458,15 @@ int run_planner_bench(const PlannerBenchOptions& o) {
     row["scene"] = c.scene;
     row["robot"] = std::string(robot::to_string(c.planner.robot_kind));
     row["voxel_m"] = c.tsdf.voxel_m;
-    if (parking) {
-      auto seq = render_depth_sequence(*scene, {.width = 320,
-                                                .height = 256,
-                                                .frames = parking_frames,
-                                                .frame_period_s = 0.4,
-                                                .min_range_m = c.tsdf.min_range_m,
-                                                .max_range_m = c.tsdf.max_range_m,
-                                                .seed = o.seed});
-      if (!seq) {
-        std::fprintf(stderr, "bench planner: rendering %s failed: %s\n", c.scene.c_str(),
-                     seq.error().c_str());
-        return 1;
-      }
-      for (size_t i = 0; i < seq->depth_m.size(); ++i)
-        if (auto r = run.add(depth_frame(seq->depth_m[i], seq->intrinsics, seq->T_world_cam[i]));
-            !r) {
-          std::fprintf(stderr, "bench planner: %s\n", r.error().c_str());
-          return 1;
-        }
-    } else {
-      FlightSequenceOptions flight;
-      flight.frames = powerplant_frames;
-      if (o.quick) {
-        flight.lap_fraction = 0.1;
-        flight.width = 376;
-        flight.height = 217;
-      }
-      flight.min_range_m = c.tsdf.min_range_m;
-      flight.max_range_m = c.tsdf.max_range_m;
-      flight.seed = o.seed;
-      const auto lap = fly_lap(*scene, flight, [&](const msg::DepthImage& d) {
-        return run.add(depth_frame(d.depth_m, d.intrinsics, d.T_world_cam));
-      });
-      if (!lap) {
-        std::fprintf(stderr, "bench planner: %s: %s\n", c.scene.c_str(), lap.error().c_str());
-        return 1;
-      }
-    }
+    const bool fed = parking ? feed_parking_lot(*scene, c, parking_frames, o.seed, run)
+                             : feed_powerplant(*scene, c, o, powerplant_frames, run);
+    if (!fed) return 1;
     if (!run.last) {
       std::fprintf(stderr, "bench planner: %s: no frame\n", c.scene.c_str());
       ++failures;
       continue;
     }
-    row["frames"] = run.update_ms.size();
-    row["map_blocks"] = run.last->block_count();
-    row["map_update_ms"] = {{"mean", mean(run.update_ms)}, {"max", max_of(run.update_ms)}};
-    row.update(run_queries(c, run, *truth, queries, firsts, o.seed));
-    row["body_radii_m"] = {motion::body_of(c.planner).safety_radii_m.x(),
-                           motion::body_of(c.planner).safety_radii_m.y(),
-                           motion::body_of(c.planner).safety_radii_m.z()};
-    row["body_margin_m"] = c.planner.body_margin_m;
-    row["unknown_is_occupied"] = c.planner.unknown_is_occupied;
-    row["time_limit_s"] = c.planner.planner_time_limit_s;
-    if (row.contains("error")) {
-      std::fprintf(stderr, "bench planner: %s: %s\n", c.scene.c_str(),
-                   row["error"].get<std::string>().c_str());
-      ++failures;
-    } else {
-      std::fprintf(
-          stderr, "%s: reused median %.2f ms (p95 %.2f), first %.2f ms; %zu/%zu colliding\n",
-          c.scene.c_str(), row["reused_ms"]["median"].get<double>(),
-          row["reused_ms"]["p95"].get<double>(), row["first_query_ms"]["median"].get<double>(),
-          row["paths_colliding"].get<size_t>(), row["paths_checked"].get<size_t>());
-    }
+    if (!add_query_figures(c, run, *truth, queries, firsts, o.seed, row)) ++failures;
     out["results"].push_back(row);
   }
   out["load_average_1min"].push_back(load_average());

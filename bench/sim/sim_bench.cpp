@@ -56,23 +56,14 @@ std::unique_ptr<sim::TeamSim> make_sim(const sim::SceneSpec& scene,
   return std::move(made).value();
 }
 
-}  // namespace
-
-int run_sim_bench(const SimBenchOptions& o) {
-  auto scene = sim::load_scene(o.scene_path);
-  if (!scene) {
-    for (const auto& e : scene.error()) std::fprintf(stderr, "%s\n", e.c_str());
-    return 2;
-  }
-  nlohmann::json out;
-  out["scene"] = scene->name;
-  out["render"] = nlohmann::json::array();
-  out["real_time_factor"] = nlohmann::json::array();
-
+// Times one stereo pair per render size and appends a row per size to out["render"]; false if
+// the simulator could not be made.
+bool time_stereo_renders(const sim::SceneSpec& scene, const SimBenchOptions& o,
+                         nlohmann::json& out) {
   // 1. one stereo pair (left + right images, depth read back, noise model applied)
   for (auto [w, h] : {std::pair<uint32_t, uint32_t>{320, 256}, {640, 480}}) {
-    auto made = make_sim(*scene, team(1, w, h));
-    if (!made) return 2;
+    auto made = make_sim(scene, team(1, w, h));
+    if (!made) return false;
     auto& s = *made;
     msg::StereoFrame stereo;
     msg::DepthImage depth;
@@ -96,11 +87,16 @@ int run_sim_bench(const SimBenchOptions& o) {
                              {"p90_ms", ms[ms.size() * 9 / 10]},
                              {"max_ms", ms.back()}});
   }
+  return true;
+}
 
+// Times the team simulator for 1, 3 and 5 robots and appends a row per team to
+// out["real_time_factor"]; false if the simulator could not be made.
+bool time_team_sim(const sim::SceneSpec& scene, const SimBenchOptions& o, nlohmann::json& out) {
   // 2. the team simulator as the sim backend runs it: 10 ms physics ticks, 5 Hz cameras
   for (int n : {1, 3, 5}) {
-    auto made = make_sim(*scene, team(n, 320, 256));
-    if (!made) return 2;
+    auto made = make_sim(scene, team(n, 320, 256));
+    if (!made) return false;
     auto& s = *made;
     msg::StereoFrame stereo;
     msg::DepthImage depth;
@@ -129,13 +125,14 @@ int run_sim_bench(const SimBenchOptions& o) {
                                        {"wall_s", wall},
                                        {"rtf", o.sim_seconds / wall}});
   }
+  return true;
+}
 
-  if (o.json) {
-    std::printf("%s\n", out.dump().c_str());
-    return 0;
-  }
+// Prints the render and real-time-factor tables from out as text.
+void print_sim_tables(const std::string& scene_name, const SimBenchOptions& o,
+                      const nlohmann::json& out) {
   std::printf("scene %s\n\nstereo pair (left + right + depth + noise model):\n",
-              scene->name.c_str());
+              scene_name.c_str());
   std::printf("  %-10s %8s %8s %8s\n", "size", "p50_ms", "p90_ms", "max_ms");
   for (const auto& r : out["render"])
     std::printf("  %4dx%-5d %8.2f %8.2f %8.2f\n", r["width"].get<int>(), r["height"].get<int>(),
@@ -146,6 +143,29 @@ int run_sim_bench(const SimBenchOptions& o) {
   for (const auto& r : out["real_time_factor"])
     std::printf("  %-7d %8.2f %8.2f\n", r["robots"].get<int>(), r["wall_s"].get<double>(),
                 r["rtf"].get<double>());
+}
+
+}  // namespace
+
+int run_sim_bench(const SimBenchOptions& o) {
+  auto scene = sim::load_scene(o.scene_path);
+  if (!scene) {
+    for (const auto& e : scene.error()) std::fprintf(stderr, "%s\n", e.c_str());
+    return 2;
+  }
+  nlohmann::json out;
+  out["scene"] = scene->name;
+  out["render"] = nlohmann::json::array();
+  out["real_time_factor"] = nlohmann::json::array();
+
+  if (!time_stereo_renders(*scene, o, out)) return 2;
+  if (!time_team_sim(*scene, o, out)) return 2;
+
+  if (o.json) {
+    std::printf("%s\n", out.dump().c_str());
+    return 0;
+  }
+  print_sim_tables(scene->name, o, out);
   return 0;
 }
 

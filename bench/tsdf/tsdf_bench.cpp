@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "bench/bench_stats.hpp"
@@ -194,73 +196,77 @@ Json row(const char* system, const DepthSequence& seq, const Case& c, const Meas
   return r;
 }
 
-}  // namespace
+using Size = std::pair<uint32_t, uint32_t>;
 
-int run_tsdf_bench(const TsdfBenchOptions& o) {
-  auto scene = sim::load_scene(o.scene_path);
-  if (!scene) {
-    for (const auto& e : scene.error()) std::fprintf(stderr, "%s\n", e.c_str());
-    return 2;
-  }
-  const int frames = o.frames > 0 ? o.frames : (o.quick ? 10 : 60);
-  const int repeats = std::max(1, o.repeats);
-  using Size = std::pair<uint32_t, uint32_t>;
-  std::vector<Size> sizes =
-      o.quick ? std::vector<Size>{{320, 256}} : std::vector<Size>{{320, 256}, {640, 480}};
-  std::vector<double> voxels = o.quick ? std::vector<double>{0.2} : std::vector{0.1, 0.2, 0.3};
-  std::vector<double> ranges = o.quick ? std::vector<double>{5.0} : std::vector{5.0, 8.0};
+// The image sizes, voxel sizes and ranges to run, each configuration of the three a case.
+struct Grid {
+  std::vector<Size> sizes;
+  std::vector<double> voxels, ranges;
+};
+
+// The grid the options ask for (the defaults, or the quick run's); nullopt (after a message)
+// when a size is not WxH.
+std::optional<Grid> grid_for(const TsdfBenchOptions& o) {
+  Grid g;
+  g.sizes = o.quick ? std::vector<Size>{{320, 256}} : std::vector<Size>{{320, 256}, {640, 480}};
+  g.voxels = o.quick ? std::vector<double>{0.2} : std::vector{0.1, 0.2, 0.3};
+  g.ranges = o.quick ? std::vector<double>{5.0} : std::vector{5.0, 8.0};
   if (!o.sizes.empty()) {
-    sizes.clear();
+    g.sizes.clear();
     for (const std::string& s : o.sizes) {
       unsigned w = 0, h = 0;
       char x = 0;
       if (std::sscanf(s.c_str(), "%u%c%u", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16 ||
           w > 4096 || h > 4096) {
         std::fprintf(stderr, "bench tsdf: --sizes wants WxH (16..4096), got '%s'\n", s.c_str());
-        return 2;
+        return std::nullopt;
       }
-      sizes.emplace_back(w, h);
+      g.sizes.emplace_back(w, h);
     }
   }
-  if (!o.voxels_m.empty()) voxels = o.voxels_m;
-  if (!o.ranges_m.empty()) ranges = o.ranges_m;
+  if (!o.voxels_m.empty()) g.voxels = o.voxels_m;
+  if (!o.ranges_m.empty()) g.ranges = o.ranges_m;
+  return g;
+}
 
-  // ground truth, once
+// Samples the scene's surfaces (meshes included) and reports the time taken on stderr.
+Result<sim::SurfaceSamples, std::string> ground_truth(const sim::SceneSpec& scene,
+                                                      const TsdfBenchOptions& o) {
   auto t0 = Clock::now();
-  auto meshes = sim::load_scene_meshes(*scene);
-  if (!meshes) {
-    std::fprintf(stderr, "bench tsdf: %s\n", meshes.error().c_str());
-    return 2;
-  }
-  const auto truth =
-      sim::sample_surfaces(*scene, *meshes, {.density_per_m2 = o.density_per_m2, .seed = o.seed});
-  if (!truth) {
-    std::fprintf(stderr, "bench tsdf: %s\n", truth.error().c_str());
-    return 2;
-  }
+  auto meshes = sim::load_scene_meshes(scene);
+  if (!meshes) return make_unexpected(meshes.error());
+  auto truth =
+      sim::sample_surfaces(scene, *meshes, {.density_per_m2 = o.density_per_m2, .seed = o.seed});
+  if (!truth) return make_unexpected(truth.error());
   std::fprintf(stderr, "ground truth: %zu points (%.0f m2) in %.1f s\n", truth->points.size(),
                truth->area_m2, ms_since(t0) * 1e-3);
+  return truth;
+}
 
-  const int tbb_threads = tbb::this_task_arena::max_concurrency();
-#ifdef SCANCREW_WITH_OPEN3D
-  const int o3d_threads = open3d_threads();
-  const std::string o3d_name = open3d_description();
-#else
-  const int o3d_threads = 0;
-  const std::string o3d_name = "unavailable";
-  std::fprintf(stderr, "bench tsdf: built without Open3D: the peer is unavailable\n");
-#endif
+// What every case shares: the options, the repeat count, the ground truth, the threads.
+struct Setup {
+  const TsdfBenchOptions& o;
+  int frames = 0;
+  int repeats = 1;
+  const sim::SurfaceSamples& truth;
+  int tbb_threads = 0, o3d_threads = 0;
+  std::string o3d_name;
+};
 
+// The output's header: the scene, the run's settings, the ground truth and scancrew's TSDF
+// settings, with empty result lists.
+Json header(const Setup& b, const std::string& scene_name) {
+  const TsdfBenchOptions& o = b.o;
   Json out;
   out["results"] = Json::array();
   out["comparisons"] = Json::array();
-  out["scene"] = scene->name;
-  out["frames"] = frames;
-  out["repeats"] = repeats;
-  out["threads"] = {{"scancrew_tbb", tbb_threads}, {"open3d_openmp", o3d_threads}};
-  out["open3d"] = o3d_name;
-  out["ground_truth"] = {{"points", truth->points.size()},
-                         {"area_m2", truth->area_m2},
+  out["scene"] = scene_name;
+  out["frames"] = b.frames;
+  out["repeats"] = b.repeats;
+  out["threads"] = {{"scancrew_tbb", b.tbb_threads}, {"open3d_openmp", b.o3d_threads}};
+  out["open3d"] = b.o3d_name;
+  out["ground_truth"] = {{"points", b.truth.points.size()},
+                         {"area_m2", b.truth.area_m2},
                          {"density_per_m2", o.density_per_m2},
                          {"seed", o.seed}};
   tsdf::TsdfConfig defaults;
@@ -274,34 +280,139 @@ int run_tsdf_bench(const TsdfBenchOptions& o) {
   out["load_average_1min"] = Json::array({load_average()});
   out["sequences"] = Json::array();
   out["targets"] = Json::array();
+  return out;
+}
 
-  // a system run `repeats` times on the sequence: the frame times of its fastest run (the
-  // least disturbed by other processes), its fastest meshing, the first run's mesh scored
-  // against the ground truth (runs are deterministic)
-  auto measure = [&](auto&& run_once, const Case& c) -> Result<Measured, std::string> {
-    Measured m;
-    for (int i = 0; i < repeats; ++i) {
-      auto run = run_once();
-      if (!run) return make_unexpected(run.error());
-      const double ms = mean(run->integrate_ms);
-      m.run_means_ms.push_back(ms);
-      if (i == 0) {
-        m.run = std::move(run).value();
-      } else {
-        if (ms < mean(m.run.integrate_ms)) m.run.integrate_ms = run->integrate_ms;
-        m.run.mesh_ms = std::min(m.run.mesh_ms, run->mesh_ms);
-      }
+// a system run `repeats` times on the sequence: the frame times of its fastest run (the
+// least disturbed by other processes), its fastest meshing, the first run's mesh scored
+// against the ground truth (runs are deterministic)
+template <class RunOnce>
+Result<Measured, std::string> measure(const Setup& b, RunOnce&& run_once, const Case& c) {
+  Measured m;
+  for (int i = 0; i < b.repeats; ++i) {
+    auto run = run_once();
+    if (!run) return make_unexpected(run.error());
+    const double ms = mean(run->integrate_ms);
+    m.run_means_ms.push_back(ms);
+    if (i == 0) {
+      m.run = std::move(run).value();
+    } else {
+      if (ms < mean(m.run.integrate_ms)) m.run.integrate_ms = run->integrate_ms;
+      m.run.mesh_ms = std::min(m.run.mesh_ms, run->mesh_ms);
     }
-    auto e = eval::reconstruction_error(
-        m.run.mesh, truth->points, truth->normals,
-        {.e_max_m = eval::max_error_for_voxel(c.voxel_m), .per_point_error = true});
-    if (!e) return make_unexpected("evaluation: " + e.error());
-    m.error = std::move(e).value();
-    return m;
-  };
+  }
+  auto e = eval::reconstruction_error(
+      m.run.mesh, b.truth.points, b.truth.normals,
+      {.e_max_m = eval::max_error_for_voxel(c.voxel_m), .per_point_error = true});
+  if (!e) return make_unexpected("evaluation: " + e.error());
+  m.error = std::move(e).value();
+  return m;
+}
+
+#ifdef SCANCREW_WITH_OPEN3D
+// Runs the Open3D peer on the case, appends its row and its comparison with scancrew's to
+// out; false (after a message) when the peer fails.
+bool compare_with_peer(const Setup& b, const DepthSequence& seq, Size size, const Case& c,
+                       const Measured& ours, const Json& ours_row, Json& out) {
+  const auto [w, h] = size;
+  const double v = c.voxel_m, r = c.range_m;
+  const auto peer = measure(
+      b, [&] { return run_peer(seq, c); }, c);
+  if (!peer) {
+    std::fprintf(stderr, "; open3d failed: %s\n", peer.error().c_str());
+    return false;
+  }
+  const Json peer_row = row("open3d", seq, c, *peer, b.o3d_threads);
+  out["results"].push_back(peer_row);
+  std::fprintf(stderr, "; open3d %.2f ms/frame, coverage %.3f",
+               peer_row["ms_per_frame"].get<double>(), peer_row["coverage"].get<double>());
+  const double speedup =
+      peer_row["ms_per_frame"].get<double>() / ours_row["ms_per_frame"].get<double>();
+  const auto common = rmse_on_common_points(ours.error, peer->error);
+  std::fprintf(stderr, "; rmse on common points %.2f / %.2f mm", common.first * 1e3,
+               common.second * 1e3);
+  const bool accuracy =
+      ours.error.coverage >= peer->error.coverage && ours.error.rmse_m <= peer->error.rmse_m;
+  out["comparisons"].push_back(
+      {{"width", w},
+       {"height", h},
+       {"voxel_m", v},
+       {"range_m", r},
+       {"speedup", speedup},
+       {"mesh_speedup", peer->run.mesh_ms / ours.run.mesh_ms},
+       {"coverage_diff", ours.error.coverage - peer->error.coverage},
+       {"rmse_diff_m", ours.error.rmse_m - peer->error.rmse_m},
+       {"rmse_common_m", {{"scancrew", common.first}, {"open3d", common.second}}},
+       {"memory_ratio",
+        static_cast<double>(ours.run.memory_bytes) / static_cast<double>(peer->run.memory_bytes)},
+       {"at_least_2x_faster", speedup >= 2.0},
+       {"equal_or_better_accuracy", accuracy}});
+  return true;
+}
+#endif
+
+// Runs scancrew (and the Open3D peer where built) on one case of the sequence and appends
+// the rows to out, progress on stderr; false (after a message) when a system fails.
+bool run_case(const Setup& b, const DepthSequence& seq, Size size, const Case& c, Json& out) {
+  const TsdfBenchOptions& o = b.o;
+  std::fprintf(stderr, "%ux%u voxel %.1f m range %.0f m:", size.first, size.second, c.voxel_m,
+               c.range_m);
+  const auto ours = measure(
+      b,
+      [&] {
+        return run_scancrew(seq, c, {o.weight, o.w_th, o.mesh_min_weight});
+      },
+      c);
+  if (!ours) {
+    std::fprintf(stderr, " scancrew failed: %s\n", ours.error().c_str());
+    return false;
+  }
+  const Json ours_row = row("scancrew", seq, c, *ours, b.tbb_threads);
+  out["results"].push_back(ours_row);
+  std::fprintf(stderr, " scancrew %.2f ms/frame, coverage %.3f",
+               ours_row["ms_per_frame"].get<double>(), ours_row["coverage"].get<double>());
+#ifdef SCANCREW_WITH_OPEN3D
+  if (!compare_with_peer(b, seq, size, c, *ours, ours_row, out)) return false;
+#endif
+  std::fprintf(stderr, "\n");
+  return true;
+}
+
+}  // namespace
+
+int run_tsdf_bench(const TsdfBenchOptions& o) {
+  auto scene = sim::load_scene(o.scene_path);
+  if (!scene) {
+    for (const auto& e : scene.error()) std::fprintf(stderr, "%s\n", e.c_str());
+    return 2;
+  }
+  const int frames = o.frames > 0 ? o.frames : (o.quick ? 10 : 60);
+  const int repeats = std::max(1, o.repeats);
+  const auto grid = grid_for(o);
+  if (!grid) return 2;
+
+  // ground truth, once
+  const auto truth = ground_truth(*scene, o);
+  if (!truth) {
+    std::fprintf(stderr, "bench tsdf: %s\n", truth.error().c_str());
+    return 2;
+  }
+
+  const int tbb_threads = tbb::this_task_arena::max_concurrency();
+#ifdef SCANCREW_WITH_OPEN3D
+  const int o3d_threads = open3d_threads();
+  const std::string o3d_name = open3d_description();
+#else
+  const int o3d_threads = 0;
+  const std::string o3d_name = "unavailable";
+  std::fprintf(stderr, "bench tsdf: built without Open3D: the peer is unavailable\n");
+#endif
+  const Setup b{o, frames, repeats, *truth, tbb_threads, o3d_threads, o3d_name};
+
+  Json out = header(b, scene->name);
   int failures = 0;
-  for (const auto& [w, h] : sizes) {
-    const double max_range = *std::max_element(ranges.begin(), ranges.end());
+  for (const auto& [w, h] : grid->sizes) {
+    const double max_range = *std::max_element(grid->ranges.begin(), grid->ranges.end());
     auto seq = render_depth_sequence(
         *scene,
         {.width = w, .height = h, .frames = frames, .max_range_m = max_range, .seed = o.seed});
@@ -316,59 +427,9 @@ int run_tsdf_bench(const TsdfBenchOptions& o) {
                                 {"sim_s", seq->sim_s},
                                 {"render_wall_s", seq->wall_s},
                                 {"depth_range_m", {seq->min_range_m, seq->max_range_m}}});
-    for (double v : voxels)
-      for (double r : ranges) {
-        const Case c{v, r};
-        std::fprintf(stderr, "%ux%u voxel %.1f m range %.0f m:", w, h, v, r);
-        const auto ours = measure(
-            [&] {
-              return run_scancrew(*seq, c, {o.weight, o.w_th, o.mesh_min_weight});
-            },
-            c);
-        if (!ours) {
-          std::fprintf(stderr, " scancrew failed: %s\n", ours.error().c_str());
-          ++failures;
-          continue;
-        }
-        const Json ours_row = row("scancrew", *seq, c, *ours, tbb_threads);
-        out["results"].push_back(ours_row);
-        std::fprintf(stderr, " scancrew %.2f ms/frame, coverage %.3f",
-                     ours_row["ms_per_frame"].get<double>(), ours_row["coverage"].get<double>());
-#ifdef SCANCREW_WITH_OPEN3D
-        const auto peer = measure([&] { return run_peer(*seq, c); }, c);
-        if (!peer) {
-          std::fprintf(stderr, "; open3d failed: %s\n", peer.error().c_str());
-          ++failures;
-          continue;
-        }
-        const Json peer_row = row("open3d", *seq, c, *peer, o3d_threads);
-        out["results"].push_back(peer_row);
-        std::fprintf(stderr, "; open3d %.2f ms/frame, coverage %.3f",
-                     peer_row["ms_per_frame"].get<double>(), peer_row["coverage"].get<double>());
-        const double speedup =
-            peer_row["ms_per_frame"].get<double>() / ours_row["ms_per_frame"].get<double>();
-        const auto common = rmse_on_common_points(ours->error, peer->error);
-        std::fprintf(stderr, "; rmse on common points %.2f / %.2f mm", common.first * 1e3,
-                     common.second * 1e3);
-        const bool accuracy = ours->error.coverage >= peer->error.coverage &&
-                              ours->error.rmse_m <= peer->error.rmse_m;
-        out["comparisons"].push_back(
-            {{"width", w},
-             {"height", h},
-             {"voxel_m", v},
-             {"range_m", r},
-             {"speedup", speedup},
-             {"mesh_speedup", peer->run.mesh_ms / ours->run.mesh_ms},
-             {"coverage_diff", ours->error.coverage - peer->error.coverage},
-             {"rmse_diff_m", ours->error.rmse_m - peer->error.rmse_m},
-             {"rmse_common_m", {{"scancrew", common.first}, {"open3d", common.second}}},
-             {"memory_ratio", static_cast<double>(ours->run.memory_bytes) /
-                                  static_cast<double>(peer->run.memory_bytes)},
-             {"at_least_2x_faster", speedup >= 2.0},
-             {"equal_or_better_accuracy", accuracy}});
-#endif
-        std::fprintf(stderr, "\n");
-      }
+    for (double v : grid->voxels)
+      for (double r : grid->ranges)
+        if (!run_case(b, *seq, {w, h}, Case{v, r}, out)) ++failures;
   }
 
   out["load_average_1min"].push_back(load_average());

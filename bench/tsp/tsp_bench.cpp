@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 #include <string_view>
 #include <vector>
@@ -131,20 +132,21 @@ void print_table(const Json& out) {
                 t["limit"].get<double>(), t["met"].get<bool>() ? "met" : "MISSED");
 }
 
-}  // namespace
-
-int run_tsp_bench(const TspBenchOptions& options) {
-  Json out;
-  out["instances"] = Json::array();
-  tsga::SolverOptions tsplib_options;
-  tsplib_options.seed = options.seed;
-  tsplib_options.time_limit_ms = kInstanceTargetMs;
-
-  // 1. TSPLIB, closed tours
+// What the TSPLIB runs add up to, for the targets.
+struct TsplibSummary {
   double gap_sum = 0.0;
   double small_worst = 0.0;
   double worst_ms = 0.0;
   int instances = 0;
+};
+
+// Solves each TSPLIB instance (the quick ones only with --quick) and appends its row to
+// out["instances"]; nullopt (after a message) when an instance cannot be read or solved.
+std::optional<TsplibSummary> bench_tsplib(const TspBenchOptions& options, Json& out) {
+  tsga::SolverOptions tsplib_options;
+  tsplib_options.seed = options.seed;
+  tsplib_options.time_limit_ms = kInstanceTargetMs;
+  TsplibSummary sum;
   for (const auto& known : kOptima) {
     if (options.quick && std::find(std::begin(kQuickInstances), std::end(kQuickInstances),
                                    known.name) == std::end(kQuickInstances))
@@ -155,7 +157,7 @@ int run_tsp_bench(const TspBenchOptions& options) {
                    "bench tsp: %s (--dir: the folder of the .atsp files; default: "
                    "data/tsplib_atsp under the repository root)\n",
                    instance.error().c_str());
-      return 2;
+      return std::nullopt;
     }
     const size_t n = instance->costs.size();
     tsplib_options.max_iterations = options.kicks_per_node * static_cast<int>(n);
@@ -164,7 +166,7 @@ int run_tsp_bench(const TspBenchOptions& options) {
     const double ms = ms_since(t0);
     if (!tour) {
       std::fprintf(stderr, "bench tsp: %s: %s\n", known.name, tour.error().c_str());
-      return 2;
+      return std::nullopt;
     }
     const double gap = 100.0 * (tour->cost - known.optimum) / known.optimum;
     Json row;
@@ -177,16 +179,20 @@ int run_tsp_bench(const TspBenchOptions& options) {
     row["kicks"] = tour->iterations;
     row["status"] = std::string(tsga::to_string(tour->status));
     out["instances"].push_back(row);
-    gap_sum += gap;
-    if (n <= kSmallMaxNodes) small_worst = std::max(small_worst, gap);
-    worst_ms = std::max(worst_ms, ms);
-    ++instances;
+    sum.gap_sum += gap;
+    if (n <= kSmallMaxNodes) sum.small_worst = std::max(sum.small_worst, gap);
+    sum.worst_ms = std::max(sum.worst_ms, ms);
+    ++sum.instances;
   }
+  return sum;
+}
 
-  // 2. maxATSP with the planners' default options
+// Times maxATSP on random eq. 2.3 utilities of 50, 100 and 200 clusters and sets
+// out["max_atsp"]; the mean ms at kMaxAtspTargetClusters, or nullopt (after a message) when
+// a solve fails.
+std::optional<double> bench_max_atsp(const TspBenchOptions& options,
+                                     const tsga::SolverOptions& planner_options, Json& out) {
   out["max_atsp"] = Json::array();
-  tsga::SolverOptions planner_options;
-  planner_options.seed = options.seed;
   const int repeats = options.quick ? std::min(options.repeats, 2) : options.repeats;
   double ms_at_target = 0.0;
   for (int clusters : {50, 100, 200}) {
@@ -201,7 +207,7 @@ int run_tsp_bench(const TspBenchOptions& options) {
       const double ms = ms_since(t0);
       if (!path) {
         std::fprintf(stderr, "bench tsp: maxATSP: %s\n", path.error().c_str());
-        return 2;
+        return std::nullopt;
       }
       ms_sum += ms;
       ms_max = std::max(ms_max, ms);
@@ -223,100 +229,134 @@ int run_tsp_bench(const TspBenchOptions& options) {
     out["max_atsp"].push_back(row);
     if (clusters == kMaxAtspTargetClusters) ms_at_target = ms_sum / repeats;
   }
+  return ms_at_target;
+}
+
+// n_clusters clusters of 1-4 viewpoints over a 60 x 40 m floor, drawn from seed.
+std::vector<tsga::PlanCluster> random_clusters(int n_clusters, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> x(0, 60), y(0, 40), gain(0.001, 0.02), jitter(-1, 1);
+  std::uniform_int_distribution<int> count(1, 4);
+  std::vector<tsga::PlanCluster> clusters;
+  for (int i = 0; i < n_clusters; ++i) {
+    tsga::PlanCluster c;
+    c.id = static_cast<uint32_t>(i);
+    c.gain = gain(rng);
+    const Eigen::Vector3d centre(x(rng), y(rng), 0.35);
+    for (int k = count(rng); k > 0; --k)
+      c.viewpoints.push_back(centre + Eigen::Vector3d(jitter(rng), jitter(rng), 0));
+    clusters.push_back(std::move(c));
+  }
+  return clusters;
+}
+
+// Times TSGA (best of 3, one with --quick) on random clusters and kTsgaRobots robots in a
+// row and sets out["tsga"]; the best ms, or nullopt (after a message) when planning fails.
+std::optional<double> bench_tsga(const TspBenchOptions& options, Json& out) {
+  const int n_clusters = options.quick ? 40 : kTsgaClusters;
+  const std::vector<tsga::PlanCluster> clusters = random_clusters(n_clusters, options.seed);
+  std::vector<tsga::PlanRobot> robots;
+  robots.reserve(kTsgaRobots);
+  for (int i = 0; i < kTsgaRobots; ++i)
+    robots.push_back({.id = static_cast<uint32_t>(i + 1),
+                      .position = Eigen::Vector3d(5.0 + 12.5 * i, 2.0, 0.35)});
+  tsga::PlannerOptions planner;
+  planner.seed = options.seed;
+  double best = 1e300;
+  size_t assigned = 0;
+  for (int r = 0; r < (options.quick ? 1 : 3); ++r) {
+    const auto t0 = Clock::now();
+    auto plan = tsga::plan_tsga(robots, clusters, planner);
+    const double ms = ms_since(t0);
+    if (!plan) {
+      std::fprintf(stderr, "bench tsp: TSGA: %s\n", plan.error().c_str());
+      return std::nullopt;
+    }
+    best = std::min(best, ms);
+    assigned = 0;
+    for (const auto& robot : plan->robots) assigned += robot.clusters.size();
+  }
+  out["tsga"] = {{"clusters", n_clusters},
+                 {"robots", kTsgaRobots},
+                 {"assigned", assigned},
+                 {"ms", best},
+                 {"insertion_kicks", planner.insertion_iterations},
+                 {"final_kicks", planner.final_iterations}};
+  return best;
+}
+
+// Times the shortest open path over 100 (300, 600) random viewpoints, best of 3, and sets
+// out["intra_paths"]; false (after a message) when a solve fails.
+bool bench_intra_paths(const TspBenchOptions& options, Json& out) {
+  out["intra_paths"] = Json::array();
+  const tsga::PlannerOptions defaults;
+  for (const int n : options.quick ? std::vector<int>{100} : std::vector<int>{100, 300, 600}) {
+    std::mt19937_64 rng(options.seed + static_cast<uint64_t>(n));
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<Eigen::Vector3d> p(static_cast<size_t>(n));
+    for (Eigen::Vector3d& v : p) v = Eigen::Vector3d(60 * u(rng), 1.5 * u(rng), 15 * u(rng));
+    tsga::CostMatrix costs(static_cast<size_t>(n) + 1, 0.0);
+    for (size_t a = 0; a < p.size(); ++a)
+      for (size_t b = 0; b < p.size(); ++b) costs(a, b) = (p[a] - p[b]).norm();
+    tsga::SolverOptions so;
+    so.max_iterations = defaults.insertion_iterations;
+    so.seed = options.seed;
+    double best = 1e300, length = 0;
+    for (int r = 0; r < 3; ++r) {
+      const auto t0 = Clock::now();
+      auto tour = tsga::solve_closed_atsp(costs, so);
+      const double ms = ms_since(t0);
+      if (!tour) {
+        std::fprintf(stderr, "bench tsp: intra-cluster path: %s\n", tour.error().c_str());
+        return false;
+      }
+      best = std::min(best, ms);
+      length = tour->cost;
+    }
+    out["intra_paths"].push_back(
+        {{"viewpoints", n}, {"kicks", so.max_iterations}, {"ms", best}, {"length_m", length}});
+  }
+  return true;
+}
+
+}  // namespace
+
+int run_tsp_bench(const TspBenchOptions& options) {
+  Json out;
+  out["instances"] = Json::array();
+
+  // 1. TSPLIB, closed tours
+  const auto tsplib = bench_tsplib(options, out);
+  if (!tsplib) return 2;
+
+  // 2. maxATSP with the planners' default options
+  tsga::SolverOptions planner_options;
+  planner_options.seed = options.seed;
+  const auto ms_at_target = bench_max_atsp(options, planner_options, out);
+  if (!ms_at_target) return 2;
 
   // 3. TSGA (Algorithm 2): 200 clusters of 1-4 viewpoints over a 60 x 40 m floor, 5 robots,
   //    the planners' default options
-  double tsga_ms = 0.0;
-  {
-    std::mt19937_64 rng(options.seed);
-    std::uniform_real_distribution<double> x(0, 60), y(0, 40), gain(0.001, 0.02), jitter(-1, 1);
-    std::uniform_int_distribution<int> count(1, 4);
-    std::vector<tsga::PlanCluster> clusters;
-    const int n_clusters = options.quick ? 40 : kTsgaClusters;
-    for (int i = 0; i < n_clusters; ++i) {
-      tsga::PlanCluster c;
-      c.id = static_cast<uint32_t>(i);
-      c.gain = gain(rng);
-      const Eigen::Vector3d centre(x(rng), y(rng), 0.35);
-      for (int k = count(rng); k > 0; --k)
-        c.viewpoints.push_back(centre + Eigen::Vector3d(jitter(rng), jitter(rng), 0));
-      clusters.push_back(std::move(c));
-    }
-    std::vector<tsga::PlanRobot> robots;
-    robots.reserve(kTsgaRobots);
-    for (int i = 0; i < kTsgaRobots; ++i)
-      robots.push_back({.id = static_cast<uint32_t>(i + 1),
-                        .position = Eigen::Vector3d(5.0 + 12.5 * i, 2.0, 0.35)});
-    tsga::PlannerOptions planner;
-    planner.seed = options.seed;
-    double best = 1e300;
-    size_t assigned = 0;
-    for (int r = 0; r < (options.quick ? 1 : 3); ++r) {
-      const auto t0 = Clock::now();
-      auto plan = tsga::plan_tsga(robots, clusters, planner);
-      const double ms = ms_since(t0);
-      if (!plan) {
-        std::fprintf(stderr, "bench tsp: TSGA: %s\n", plan.error().c_str());
-        return 2;
-      }
-      best = std::min(best, ms);
-      assigned = 0;
-      for (const auto& robot : plan->robots) assigned += robot.clusters.size();
-    }
-    tsga_ms = best;
-    out["tsga"] = {{"clusters", n_clusters},
-                   {"robots", kTsgaRobots},
-                   {"assigned", assigned},
-                   {"ms", tsga_ms},
-                   {"insertion_kicks", planner.insertion_iterations},
-                   {"final_kicks", planner.final_iterations}};
-  }
+  const auto tsga_ms = bench_tsga(options, out);
+  if (!tsga_ms) return 2;
 
   // 4. intra-cluster paths (the TSGA planner's τ_lm): the shortest open path over a
   //    cluster's viewpoints, a closed ATSP with a free dummy node, with the insertion budget.
   //    Viewpoints spread over a 60 x 1.5 x 15 m slab, as along a facade: the powerplant's
   //    largest clusters hold hundreds (docs/tsga.md, "Planning time on large maps").
-  out["intra_paths"] = Json::array();
-  {
-    const tsga::PlannerOptions defaults;
-    for (const int n : options.quick ? std::vector<int>{100} : std::vector<int>{100, 300, 600}) {
-      std::mt19937_64 rng(options.seed + static_cast<uint64_t>(n));
-      std::uniform_real_distribution<double> u(0, 1);
-      std::vector<Eigen::Vector3d> p(static_cast<size_t>(n));
-      for (Eigen::Vector3d& v : p) v = Eigen::Vector3d(60 * u(rng), 1.5 * u(rng), 15 * u(rng));
-      tsga::CostMatrix costs(static_cast<size_t>(n) + 1, 0.0);
-      for (size_t a = 0; a < p.size(); ++a)
-        for (size_t b = 0; b < p.size(); ++b) costs(a, b) = (p[a] - p[b]).norm();
-      tsga::SolverOptions so;
-      so.max_iterations = defaults.insertion_iterations;
-      so.seed = options.seed;
-      double best = 1e300, length = 0;
-      for (int r = 0; r < 3; ++r) {
-        const auto t0 = Clock::now();
-        auto tour = tsga::solve_closed_atsp(costs, so);
-        const double ms = ms_since(t0);
-        if (!tour) {
-          std::fprintf(stderr, "bench tsp: intra-cluster path: %s\n", tour.error().c_str());
-          return 2;
-        }
-        best = std::min(best, ms);
-        length = tour->cost;
-      }
-      out["intra_paths"].push_back(
-          {{"viewpoints", n}, {"kicks", so.max_iterations}, {"ms", best}, {"length_m", length}});
-    }
-  }
+  if (!bench_intra_paths(options, out)) return 2;
 
   // 5. targets
-  const std::string over = std::to_string(instances) + " instances";
+  const std::string over = std::to_string(tsplib->instances) + " instances";
   out["targets"] = Json::array({
-      target("mean gap over the " + over, gap_sum / std::max(instances, 1), kMeanGapTargetPct, "%"),
-      target("worst gap for n <= 71", small_worst, kSmallGapTargetPct, "%"),
-      target("slowest instance", worst_ms, kInstanceTargetMs, "ms"),
-      target("maxATSP on 100 clusters, mean", ms_at_target, kMaxAtspTargetMs, "ms"),
+      target("mean gap over the " + over, tsplib->gap_sum / std::max(tsplib->instances, 1),
+             kMeanGapTargetPct, "%"),
+      target("worst gap for n <= 71", tsplib->small_worst, kSmallGapTargetPct, "%"),
+      target("slowest instance", tsplib->worst_ms, kInstanceTargetMs, "ms"),
+      target("maxATSP on 100 clusters, mean", *ms_at_target, kMaxAtspTargetMs, "ms"),
       target(
           "TSGA, " + std::to_string(out["tsga"]["clusters"].get<int>()) + " clusters to 5 robots",
-          tsga_ms, kTsgaTargetMs, "ms"),
+          *tsga_ms, kTsgaTargetMs, "ms"),
   });
   out["options"] = {{"dir", options.dir},
                     {"quick", options.quick},

@@ -35,6 +35,27 @@ Result<void, std::string> DdsBridge::on_configure() {
   for (BridgedTopic& spec : config_.topics)
     if (auto typed = resolve_type(spec); !typed) return typed;
 
+  auto dds = link_config();
+  if (!dds) return make_unexpected(dds.error());
+  auto link = DdsLink::create(*dds, link_callbacks());
+  if (!link) return make_unexpected(qualified_name() + ": " + link.error());
+  link_ = std::move(link).value();
+
+  stats_.topics.reserve(config_.topics.size());
+  topics_.reserve(config_.topics.size());
+  for (const BridgedTopic& spec : config_.topics)
+    if (auto added = add_topic(spec); !added) return added;
+  data_readers_.store(topic_of_reader_.size());
+  if (config_.lockstep != "none")
+    if (auto sync = make_lockstep(); !sync) return sync;
+  create_lost_publishers();
+  create_timer(std::chrono::nanoseconds(std::llround(config_.poll_period_s * 1e9)),
+               [this] { tick(); });
+  return {};
+}
+
+// The DDS link's settings from the configuration, with DDS-Security when keys are given.
+Result<DdsLinkConfig, std::string> DdsBridge::link_config() const {
   DdsLinkConfig dds;
   dds.domain_id = config_.domain_id;
   dds.partitions = config_.partitions;
@@ -58,47 +79,15 @@ Result<void, std::string> DdsBridge::on_configure() {
     SCANCREW_LOG_INFO("%s: DDS-Security on: authenticated as %s of team %s, encrypted",
                       qualified_name().c_str(), place.c_str(), team_name->c_str());
   }
+  return dds;
+}
+
+// The DDS link's callbacks: samples, peers, restarted processes and warnings.
+DdsLink::Callbacks DdsBridge::link_callbacks() {
   DdsLink::Callbacks callbacks;
   // DDS threads: queue and return
   callbacks.on_sample = [this](size_t reader, WireEnvelope&& envelope, size_t bytes) {
-    if (reader >= data_readers_.load()) {  // the lockstep's reader, added after the topics'
-      on_sync(std::move(envelope));
-      return;
-    }
-    // checked before queueing: a sample over max_sample_bytes (its payload, or a type name
-    // longer than any wire type's) is not kept, its envelope is, to be counted; the lockstep's
-    // receive marks count a sample only from a participant that announced its robot, in the
-    // team (received, whether or not it is then accepted: a restarted robot's new process,
-    // refused until its old one leaves, does not send those samples again)
-    const bool oversize =
-        envelope.payload.size() > config_.max_sample_bytes || envelope.type_name.size() > 256;
-    if (oversize) {
-      envelope.payload = {};
-      envelope.type_name.clear();
-    }
-    if (envelope.claimed_robot_id == envelope.robot_id && in_team(rules_, envelope.robot_id)) {
-      const std::lock_guard lock(sync_mutex_);
-      uint64_t& max = received_max_[{envelope.robot_id, reader}];
-      max = std::max(max, envelope.seq);
-      sync_cv_.notify_all();
-    }
-    Incoming in{reader, std::move(envelope), bytes, clock().now_ns(), oversize};
-    const size_t kept = oversize ? 0 : bytes;
-    std::lock_guard lock(inbox_mutex_);
-    if (kept > config_.inbox_bytes) {  // larger than the whole inbox: dropped, counted
-      ++inbox_drops_[in.topic];
-      return;
-    }
-    // bounded in samples and in bytes (as received): the oldest go first
-    while (!inbox_.empty() && (inbox_.size() >= config_.inbox_samples ||
-                               inbox_wire_bytes_ + kept > config_.inbox_bytes)) {
-      ++inbox_drops_[inbox_.front().topic];
-      inbox_wire_bytes_ -= inbox_.front().oversize ? 0 : inbox_.front().wire_bytes;
-      inbox_.pop_front();
-    }
-    inbox_wire_bytes_ += kept;
-    inbox_.push_back(std::move(in));
-    ++taken_;
+    queue_sample(reader, std::move(envelope), bytes);
   };
   callbacks.on_peer = [this](uint32_t id, bool alive, std::string_view why) {
     {
@@ -129,17 +118,53 @@ Result<void, std::string> DdsBridge::on_configure() {
     restarts_.push_back(id);
   };
   callbacks.on_warning = [this](const std::string& message) { warn_once(message); };
-  auto link = DdsLink::create(dds, std::move(callbacks));
-  if (!link) return make_unexpected(qualified_name() + ": " + link.error());
-  link_ = std::move(link).value();
+  return callbacks;
+}
 
-  stats_.topics.reserve(config_.topics.size());
-  topics_.reserve(config_.topics.size());
-  for (const BridgedTopic& spec : config_.topics)
-    if (auto added = add_topic(spec); !added) return added;
-  data_readers_.store(topic_of_reader_.size());
-  if (config_.lockstep != "none")
-    if (auto sync = make_lockstep(); !sync) return sync;
+// A DDS thread's sample: the lockstep's goes to on_sync, a topic's to the bounded inbox.
+void DdsBridge::queue_sample(size_t reader, WireEnvelope&& envelope, size_t bytes) {
+  if (reader >= data_readers_.load()) {  // the lockstep's reader, added after the topics'
+    on_sync(std::move(envelope));
+    return;
+  }
+  // checked before queueing: a sample over max_sample_bytes (its payload, or a type name
+  // longer than any wire type's) is not kept, its envelope is, to be counted; the lockstep's
+  // receive marks count a sample only from a participant that announced its robot, in the
+  // team (received, whether or not it is then accepted: a restarted robot's new process,
+  // refused until its old one leaves, does not send those samples again)
+  const bool oversize =
+      envelope.payload.size() > config_.max_sample_bytes || envelope.type_name.size() > 256;
+  if (oversize) {
+    envelope.payload = {};
+    envelope.type_name.clear();
+  }
+  if (envelope.claimed_robot_id == envelope.robot_id && in_team(rules_, envelope.robot_id)) {
+    const std::lock_guard lock(sync_mutex_);
+    uint64_t& max = received_max_[{envelope.robot_id, reader}];
+    max = std::max(max, envelope.seq);
+    sync_cv_.notify_all();
+  }
+  Incoming in{reader, std::move(envelope), bytes, clock().now_ns(), oversize};
+  const size_t kept = oversize ? 0 : bytes;
+  std::lock_guard lock(inbox_mutex_);
+  if (kept > config_.inbox_bytes) {  // larger than the whole inbox: dropped, counted
+    ++inbox_drops_[in.topic];
+    return;
+  }
+  // bounded in samples and in bytes (as received): the oldest go first
+  while (!inbox_.empty() && (inbox_.size() >= config_.inbox_samples ||
+                             inbox_wire_bytes_ + kept > config_.inbox_bytes)) {
+    ++inbox_drops_[inbox_.front().topic];
+    inbox_wire_bytes_ -= inbox_.front().oversize ? 0 : inbox_.front().wire_bytes;
+    inbox_.pop_front();
+  }
+  inbox_wire_bytes_ += kept;
+  inbox_.push_back(std::move(in));
+  ++taken_;
+}
+
+// The robot-loss report publishers: one per robot for a "{lost}" port, else one.
+void DdsBridge::create_lost_publishers() {
   // "{lost}" in lost_port: the report goes to the lost robot's own topic, e.g.
   // "/{lost}/robot_state"
   if (config_.lost_port.find("{lost}") != std::string::npos) {
@@ -152,9 +177,6 @@ Result<void, std::string> DdsBridge::on_configure() {
   } else {
     lost_pub_ = create_publisher<msg::RobotState>(config_.lost_port);
   }
-  create_timer(std::chrono::nanoseconds(std::llround(config_.poll_period_s * 1e9)),
-               [this] { tick(); });
-  return {};
 }
 
 Result<std::vector<std::string>, std::string> expand_topic_name(const std::string& name,

@@ -159,6 +159,10 @@ class DdsBridge final : public Component {
   void on_deactivate() override;
   void on_shutdown() override;
 
+  Result<DdsLinkConfig, std::string> link_config() const;
+  DdsLink::Callbacks link_callbacks();
+  void queue_sample(size_t reader, WireEnvelope&& envelope, size_t bytes);
+  void create_lost_publishers();
   Result<void, std::string> expand_templates();
   std::string local_port(const BridgedTopic& spec) const;
   Result<void, std::string> resolve_type(BridgedTopic& spec);

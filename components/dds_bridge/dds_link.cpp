@@ -227,25 +227,8 @@ void add_peer(fdds::DomainParticipantQos& pqos, const std::string& address) {
   pqos.wire_protocol().builtin.initialPeersList.push_back(locator);
 }
 
-}  // namespace
-
-DdsLink::DdsLink(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-
-DdsLink::~DdsLink() {
-  close();
-}
-
-Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfig& config,
-                                                              Callbacks callbacks) {
-  auto impl = std::make_unique<Impl>();
-  impl->config = config;
-  impl->callbacks = std::move(callbacks);
-
-  fdds::DomainParticipantQos pqos;
-  pqos.name(config.participant_name.c_str());
-  pqos.user_data().data_vec(participant_user_data(config.robot_id, config.partitions));
-  for (const auto& [name, value] : config.security_properties)
-    pqos.properties().properties().emplace_back(name, value);
+// Sets the participant's discovery lease from the liveliness lease (at least 1 s).
+void set_participant_lease(fdds::DomainParticipantQos& pqos, double liveliness_lease_s) {
   // a dead process is told by its participant's discovery lease, set to the liveliness lease:
   // Fast DDS 2.9's AUTOMATIC liveliness cannot tell it while another participant is alive (a
   // reader asserting one remote writer's liveliness asserts every automatic writer it tracks,
@@ -253,10 +236,15 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
   // reported lost only at the default 20 s participant lease. Announced 5 times per lease: 5
   // in a row lost (1e-5 at 10 % loss) reports a live robot lost. At least 1 s: a process
   // stalled for less (a loaded machine, a sanitizer build) is not taken for dead
-  const double participant_lease_s = std::max(config.liveliness_lease_s, kMinParticipantLeaseS);
+  const double participant_lease_s = std::max(liveliness_lease_s, kMinParticipantLeaseS);
   pqos.wire_protocol().builtin.discovery_config.leaseDuration = duration(participant_lease_s);
   pqos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod =
       duration(participant_lease_s / 5);
+}
+
+// Adds the configured transport and the initial peers to the participant's QoS.
+Result<void, std::string> add_transports(fdds::DomainParticipantQos& pqos,
+                                         const DdsLinkConfig& config) {
   const std::string& t = config.transport;
   if (t != "builtin") pqos.transport().use_builtin_transports = false;
   if (t == "loopback") {
@@ -278,28 +266,11 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
       return make_unexpected("'" + peer + "' is not an IPv4 address");
     add_peer(pqos, peer);
   }
+  return {};
+}
 
-  if (!config.intraprocess) {
-    eprosima::fastrtps::LibrarySettingsAttributes library;
-    library.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
-    eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(library);
-  }
-  auto* factory = fdds::DomainParticipantFactory::get_instance();
-  impl->participant_listener = std::make_unique<ParticipantListener>(impl.get());
-  // discovery callbacks only: the readers' own listeners take their data
-  impl->participant = factory->create_participant(
-      config.domain_id, pqos, impl->participant_listener.get(), fdds::StatusMask::none());
-  if (impl->participant == nullptr)
-    return make_unexpected(
-        "cannot create a DDS participant on domain " + std::to_string(config.domain_id) +
-        " (transport " + t + ")" +
-        (config.security_properties.empty()
-             ? std::string()
-             : std::string("; with DDS-Security: a certificate, key, governance or permissions "
-                           "file that does not verify against the team's ca.pem (Fast DDS's "
-                           "log above says which)")));
-  std::unique_ptr<DdsLink> link(new DdsLink(std::move(impl)));
-  Impl& m = *link->impl_;
+// Registers the envelope type and creates the publisher and subscriber (in the partitions).
+Result<void, std::string> create_pub_sub(DdsLink::Impl& m, const DdsLinkConfig& config) {
   if (m.type.register_type(m.participant) != ReturnCode_t::RETCODE_OK)
     return make_unexpected("cannot register the DDS type " + m.type.get_type_name());
 
@@ -313,7 +284,11 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
   m.subscriber = m.participant->create_subscriber(sub_qos);
   if (m.publisher == nullptr || m.subscriber == nullptr)
     return make_unexpected("cannot create the DDS publisher or subscriber");
+  return {};
+}
 
+// Creates the presence topic's writer and reader.
+Result<void, std::string> create_presence(DdsLink::Impl& m, const DdsLinkConfig& config) {
   // presence: reliable, transient-local, AUTOMATIC liveliness with the configured lease
   auto topic = m.topic(std::string(kPresenceTopic));
   if (!topic) return make_unexpected(topic.error());
@@ -331,6 +306,57 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
   m.listeners.push_back(std::move(listener));
   if (m.presence_writer == nullptr || m.presence_reader == nullptr)
     return make_unexpected("cannot create the DDS presence endpoints");
+  return {};
+}
+
+}  // namespace
+
+DdsLink::DdsLink(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+DdsLink::~DdsLink() {
+  close();
+}
+
+Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfig& config,
+                                                              Callbacks callbacks) {
+  auto impl = std::make_unique<Impl>();
+  impl->config = config;
+  impl->callbacks = std::move(callbacks);
+
+  fdds::DomainParticipantQos pqos;
+  pqos.name(config.participant_name.c_str());
+  pqos.user_data().data_vec(participant_user_data(config.robot_id, config.partitions));
+  for (const auto& [name, value] : config.security_properties)
+    pqos.properties().properties().emplace_back(name, value);
+  set_participant_lease(pqos, config.liveliness_lease_s);
+  if (auto transports = add_transports(pqos, config); !transports)
+    return make_unexpected(transports.error());
+
+  if (!config.intraprocess) {
+    eprosima::fastrtps::LibrarySettingsAttributes library;
+    library.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
+    eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(library);
+  }
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  impl->participant_listener = std::make_unique<ParticipantListener>(impl.get());
+  // discovery callbacks only: the readers' own listeners take their data
+  impl->participant = factory->create_participant(
+      config.domain_id, pqos, impl->participant_listener.get(), fdds::StatusMask::none());
+  if (impl->participant == nullptr)
+    return make_unexpected(
+        "cannot create a DDS participant on domain " + std::to_string(config.domain_id) +
+        " (transport " + config.transport + ")" +
+        (config.security_properties.empty()
+             ? std::string()
+             : std::string("; with DDS-Security: a certificate, key, governance or permissions "
+                           "file that does not verify against the team's ca.pem (Fast DDS's "
+                           "log above says which)")));
+  std::unique_ptr<DdsLink> link(new DdsLink(std::move(impl)));
+  Impl& m = *link->impl_;
+  if (auto entities = create_pub_sub(m, config); !entities)
+    return make_unexpected(entities.error());
+  if (auto presence = create_presence(m, config); !presence)
+    return make_unexpected(presence.error());
   return link;
 }
 

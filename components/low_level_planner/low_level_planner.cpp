@@ -69,6 +69,16 @@ LowLevelPlanner::LowLevelPlanner(ComponentContext context, Config config)
 LowLevelPlanner::~LowLevelPlanner() = default;
 
 Result<void, std::string> LowLevelPlanner::on_configure() {
+  if (auto planner = configure_planner(); !planner) return planner;
+  create_ports();
+  subscribe_teammates();
+  create_timer(std::chrono::nanoseconds(static_cast<int64_t>(config_.control_period_s * 1e9)),
+               [this] { tick(); });
+  return {};
+}
+
+// The robot's kind from the launch file: its checks, speed, traffic radius and motion planner.
+Result<void, std::string> LowLevelPlanner::configure_planner() {
   const auto self = std::find_if(team().begin(), team().end(),
                                  [&](const TeamMember& m) { return m.id == robot_id(); });
   if (self == team().end())
@@ -87,7 +97,11 @@ Result<void, std::string> LowLevelPlanner::on_configure() {
   if (!planner) return make_unexpected(planner.error());
   planner_.emplace(std::move(planner).value());
   traffic_.emplace(checks_.traffic);
+  return {};
+}
 
+// The robot's own publishers and its subscriptions to plans, the map, ISEs and its pose.
+void LowLevelPlanner::create_ports() {
   path_pub_ = create_publisher<msg::LocalPath>("local_path", {.pool_size = 2});
   maneuver_pub_ = create_publisher<msg::Maneuver>("maneuver", {.pool_size = 2});
   state_pub_ = create_publisher<msg::RobotState>("robot_state", {.pool_size = 4});
@@ -110,6 +124,10 @@ Result<void, std::string> LowLevelPlanner::on_configure() {
   create_subscription<msg::Odometry>(config_.pose_source == "vio" ? "odom" : "pose_gt",
                                      {.depth = 1},
                                      [this](Sample<msg::Odometry>&& s) { on_pose(*s); });
+}
+
+// Subscribes to each teammate's state, local path and tour.
+void LowLevelPlanner::subscribe_teammates() {
   for (const TeamMember& m : team()) {
     if (m.id == robot_id()) continue;
     const size_t i = teammates_.size();
@@ -147,9 +165,6 @@ Result<void, std::string> LowLevelPlanner::on_configure() {
                                          teammates_[i].tour_plan_id = s->plan_id;
                                        });
   }
-  create_timer(std::chrono::nanoseconds(static_cast<int64_t>(config_.control_period_s * 1e9)),
-               [this] { tick(); });
-  return {};
 }
 
 void LowLevelPlanner::on_plan(const msg::TeamPlan& plan) {

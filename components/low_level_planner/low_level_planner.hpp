@@ -204,6 +204,9 @@ class LowLevelPlanner final : public Component {
   };
 
   Result<void, std::string> on_configure() override;
+  Result<void, std::string> configure_planner();
+  void create_ports();
+  void subscribe_teammates();
   void on_deactivate() override;
   void on_plan(const msg::TeamPlan& plan);
   void on_pose(const msg::Odometry& odom);

@@ -55,6 +55,14 @@ struct StereoOdometry::Impl {
   void correct_tilt(const Eigen::Vector3d& specific_force_mps2,
                     const Eigen::Isometry3d& T_prevbody_body, double dt_s,
                     Eigen::Isometry3d& T_world_body_now);
+  // The body's motion since the last frame, as predicted for KLT's starting guess.
+  Eigen::Isometry3d predict_motion(int64_t dt_ns,
+                                   const std::optional<Eigen::Quaterniond>& gyro) const;
+  // Tracks the keyframe's points into this frame and solves its pose: kNone, else why not.
+  LossReason track_pose(const StereoInput& frame, TrackingResult& result);
+  // Takes a pose that passed the checks; a new keyframe when too few inliers are left.
+  void accept(const StereoInput& frame, const Eigen::Isometry3d& T_prevbody_body_new,
+              const Eigen::Isometry3d& T_world_new, int64_t dt_ns, TrackingResult& result);
 
   StereoOdometryConfig config;
   FeatureTracker tracker;
@@ -147,6 +155,60 @@ void StereoOdometry::Impl::correct_tilt(const Eigen::Vector3d& specific_force_mp
   keyframe.T_world_cam = correction * keyframe.T_world_cam;
 }
 
+Eigen::Isometry3d StereoOdometry::Impl::predict_motion(
+    int64_t dt_ns, const std::optional<Eigen::Quaterniond>& gyro) const {
+  // predicted pose: gyro rotation (or the last motion's), constant-velocity translation
+  Eigen::Isometry3d T_prev_pred = Eigen::Isometry3d::Identity();
+  if (have_motion && last_dt_ns > 0) {
+    T_prev_pred = T_prevbody_body;
+    T_prev_pred.translation() *= static_cast<double>(dt_ns) / static_cast<double>(last_dt_ns);
+  }
+  if (gyro) T_prev_pred.linear() = gyro->toRotationMatrix();
+  return T_prev_pred;
+}
+
+LossReason StereoOdometry::Impl::track_pose(const StereoInput& frame, TrackingResult& result) {
+  // KLT from the previous image, then the pose against the keyframe
+  tracker.track(frame.left, from, tracks.px, ok);
+  tracks.keep_if(ok);
+  result.tracked = tracks.size();
+  result.keyframe_points = keyframe.points_cam.size();
+  if (tracks.size() < std::max<size_t>(config.pose.min_inliers, 4))
+    return LossReason::kTooFewTracks;
+  points.clear();
+  for (const uint32_t i : tracks.point) points.push_back(keyframe.points_cam[i]);
+  pose.estimate(points, tracks.px, frame.intrinsics, estimate);
+  if (estimate.status == PoseStatus::kTooFewInliers) return LossReason::kTooFewInliers;
+  if (estimate.status != PoseStatus::kOk) return LossReason::kNoPoseSolution;
+  return LossReason::kNone;
+}
+
+void StereoOdometry::Impl::accept(const StereoInput& frame,
+                                  const Eigen::Isometry3d& T_prevbody_body_new,
+                                  const Eigen::Isometry3d& T_world_new, int64_t dt_ns,
+                                  TrackingResult& result) {
+  // accepted: keep the inliers, update the motion model
+  tracks.keep_if(estimate.inlier);
+  result.inliers = estimate.inliers;
+  result.quality = static_cast<double>(estimate.inliers) / static_cast<double>(result.tracked);
+  T_prevbody_body = T_prevbody_body_new;
+  last_dt_ns = dt_ns;
+  have_motion = dt_ns > 0;
+  T_world_body = T_world_new;
+  result.T_world_body = T_world_new;
+  result.status = TrackingStatus::kTracked;
+  const auto needed =
+      std::max(static_cast<double>(config.keyframe_min_inliers),
+               config.keyframe_min_inlier_ratio * static_cast<double>(keyframe.points_cam.size()));
+  if (static_cast<double>(estimate.inliers) < needed) {
+    // make_keyframe() changes nothing when it fails: the old keyframe stays tracked
+    if (make_keyframe(frame, T_world_new)) {
+      result.status = TrackingStatus::kNewKeyframe;
+      result.keyframe_points = keyframe.points_cam.size();
+    }
+  }
+}
+
 StereoOdometry::StereoOdometry(const StereoOdometryConfig& config)
     : impl_(std::make_unique<Impl>(config)) {}
 
@@ -218,27 +280,9 @@ TrackingResult StereoOdometry::process(const StereoInput& frame, const ImuInterv
       frame.intrinsics.height != m.keyframe.intrinsics.height)
     return lose(LossReason::kCameraChanged);
 
-  // predicted pose: gyro rotation (or the last motion's), constant-velocity translation
-  Eigen::Isometry3d T_prev_pred = Eigen::Isometry3d::Identity();
-  if (m.have_motion && m.last_dt_ns > 0) {
-    T_prev_pred = m.T_prevbody_body;
-    T_prev_pred.translation() *= static_cast<double>(dt_ns) / static_cast<double>(m.last_dt_ns);
-  }
-  if (gyro) T_prev_pred.linear() = gyro->toRotationMatrix();
-  m.predict_pixels(frame, T_world_last * T_prev_pred);
-
-  // KLT from the previous image, then the pose against the keyframe
-  m.tracker.track(frame.left, m.from, m.tracks.px, m.ok);
-  m.tracks.keep_if(m.ok);
-  result.tracked = m.tracks.size();
-  result.keyframe_points = m.keyframe.points_cam.size();
-  if (m.tracks.size() < std::max<size_t>(c.pose.min_inliers, 4))
-    return lose(LossReason::kTooFewTracks);
-  m.points.clear();
-  for (const uint32_t i : m.tracks.point) m.points.push_back(m.keyframe.points_cam[i]);
-  m.pose.estimate(m.points, m.tracks.px, frame.intrinsics, m.estimate);
-  if (m.estimate.status == PoseStatus::kTooFewInliers) return lose(LossReason::kTooFewInliers);
-  if (m.estimate.status != PoseStatus::kOk) return lose(LossReason::kNoPoseSolution);
+  m.predict_pixels(frame, T_world_last * m.predict_motion(dt_ns, gyro));
+  if (const LossReason loss = m.track_pose(frame, result); loss != LossReason::kNone)
+    return lose(loss);
   const Eigen::Isometry3d T_world_cam = m.keyframe.T_world_cam * m.estimate.T_cam_ref.inverse();
   Eigen::Isometry3d T_world_new = T_world_cam * frame.T_body_cam.inverse();
   const Eigen::Isometry3d T_prevbody_body = T_world_last.inverse() * T_world_new;
@@ -253,26 +297,7 @@ TrackingResult StereoOdometry::process(const StereoInput& frame, const ImuInterv
     m.correct_tilt(*imu.mean_specific_force_mps2, T_prevbody_body,
                    static_cast<double>(dt_ns) * 1e-9, T_world_new);
 
-  // accepted: keep the inliers, update the motion model
-  m.tracks.keep_if(m.estimate.inlier);
-  result.inliers = m.estimate.inliers;
-  result.quality = static_cast<double>(m.estimate.inliers) / static_cast<double>(result.tracked);
-  m.T_prevbody_body = T_prevbody_body;
-  m.last_dt_ns = dt_ns;
-  m.have_motion = dt_ns > 0;
-  m.T_world_body = T_world_new;
-  result.T_world_body = T_world_new;
-  result.status = TrackingStatus::kTracked;
-  const auto needed =
-      std::max(static_cast<double>(c.keyframe_min_inliers),
-               c.keyframe_min_inlier_ratio * static_cast<double>(m.keyframe.points_cam.size()));
-  if (static_cast<double>(m.estimate.inliers) < needed) {
-    // make_keyframe() changes nothing when it fails: the old keyframe stays tracked
-    if (m.make_keyframe(frame, T_world_new)) {
-      result.status = TrackingStatus::kNewKeyframe;
-      result.keyframe_points = m.keyframe.points_cam.size();
-    }
-  }
+  m.accept(frame, T_prevbody_body, T_world_new, dt_ns, result);
   return result;
 }
 

@@ -221,28 +221,91 @@ int index_of(const Element& e, const std::string& name) {
   return -1;
 }
 
-Result<TriangleMesh, std::string> parse(const std::string& data) {
-  auto header = parse_header(data);
-  if (!header) return make_unexpected(header.error());
-  const auto vertex = std::find_if(header->elements.begin(), header->elements.end(),
+// the vertex and face elements, and where their coordinates and vertex indices are
+struct MeshLayout {
+  const Element* vertex = nullptr;
+  const Element* face = nullptr;
+  std::array<int, 3> xyz{};  // property indices of x, y, z in the vertex element
+  int indices = -1;          // property index of the face element's vertex list
+};
+
+// finds the mesh's layout in the header, or says what is missing
+Result<MeshLayout, std::string> find_layout(const Header& header) {
+  MeshLayout layout;
+  const auto vertex = std::find_if(header.elements.begin(), header.elements.end(),
                                    [](const Element& e) { return e.name == "vertex"; });
-  const auto face = std::find_if(header->elements.begin(), header->elements.end(),
+  const auto face = std::find_if(header.elements.begin(), header.elements.end(),
                                  [](const Element& e) { return e.name == "face"; });
-  if (vertex == header->elements.end()) return make_unexpected(std::string("no vertex element"));
-  const std::array<int, 3> xyz{index_of(*vertex, "x"), index_of(*vertex, "y"),
-                               index_of(*vertex, "z")};
-  if (std::find(xyz.begin(), xyz.end(), -1) != xyz.end())
+  if (vertex == header.elements.end()) return make_unexpected(std::string("no vertex element"));
+  layout.xyz = {index_of(*vertex, "x"), index_of(*vertex, "y"), index_of(*vertex, "z")};
+  if (std::find(layout.xyz.begin(), layout.xyz.end(), -1) != layout.xyz.end())
     return make_unexpected(std::string("the vertex element lacks x, y or z"));
-  if (face == header->elements.end())
+  if (face == header.elements.end())
     return make_unexpected(std::string("no face element: a point cloud, not a mesh"));
-  int indices = -1;
   for (size_t i = 0; i < face->properties.size(); ++i) {
     const Property& p = face->properties[i];
     if (p.list && (p.name == "vertex_indices" || p.name == "vertex_index"))
-      indices = static_cast<int>(i);
+      layout.indices = static_cast<int>(i);
   }
-  if (indices < 0)
+  if (layout.indices < 0)
     return make_unexpected(std::string("the face element has no list 'vertex_indices'"));
+  layout.vertex = &*vertex;
+  layout.face = &*face;
+  return layout;
+}
+
+// reads one item of e: its scalars into values, the list `keep` (if any) into polygon;
+// false when the data ends early or holds a non-number
+bool read_item(BodyReader& reader, const Element& e, int keep, std::vector<double>& values,
+               std::vector<double>& polygon) {
+  for (size_t k = 0; k < e.properties.size(); ++k) {
+    const Property& p = e.properties[k];
+    if (!p.list) {
+      if (!reader.read(p.type, values[k])) return false;
+      continue;
+    }
+    double count = 0;
+    // each item takes a byte at least: a larger count is a corrupt file, not a big face
+    if (!reader.read(p.count_type, count) || count < 0 || count != std::floor(count) ||
+        count > static_cast<double>(reader.remaining()))
+      return false;
+    const bool kept = static_cast<int>(k) == keep;
+    if (kept) polygon.resize(static_cast<size_t>(count));
+    for (size_t j = 0; j < static_cast<size_t>(count); ++j) {
+      double v = 0;
+      if (!reader.read(p.type, v)) return false;
+      if (kept) polygon[j] = v;
+    }
+  }
+  return true;
+}
+
+// adds face `item` (a polygon of vertex indices) as triangles; the problem if it is bad
+std::string add_face(const std::vector<double>& polygon, size_t item, size_t vertex_count,
+                     TriangleMesh& mesh) {
+  if (polygon.size() < 3)
+    return "face " + std::to_string(item) + " has " + std::to_string(polygon.size()) +
+           " vertices, fewer than 3";
+  for (const double v : polygon)
+    if (!(v >= 0) || v >= static_cast<double>(vertex_count) || v != std::floor(v))
+      return "face " + std::to_string(item) + " refers to vertex " + number(v) +
+             ", but there are " + std::to_string(vertex_count) + " vertices";
+  // a polygon as a fan of triangles around its first vertex
+  for (size_t j = 1; j + 1 < polygon.size(); ++j)
+    mesh.triangles.push_back({static_cast<uint32_t>(polygon[0]), static_cast<uint32_t>(polygon[j]),
+                              static_cast<uint32_t>(polygon[j + 1])});
+  return {};
+}
+
+Result<TriangleMesh, std::string> parse(const std::string& data) {
+  auto header = parse_header(data);
+  if (!header) return make_unexpected(header.error());
+  auto found = find_layout(*header);
+  if (!found) return make_unexpected(found.error());
+  const MeshLayout& layout = *found;
+  const Element* vertex = layout.vertex;
+  const Element* face = layout.face;
+  const std::array<int, 3>& xyz = layout.xyz;
 
   TriangleMesh mesh;
   // counts come from the file: reserve no more than its bytes could hold
@@ -264,44 +327,16 @@ Result<TriangleMesh, std::string> parse(const std::string& data) {
                              " items, more than the " + std::to_string(reader.remaining()) +
                              " bytes left in the file");
     values.resize(e.properties.size());
+    const int keep = &e == face ? layout.indices : -1;
     for (size_t item = 0; item < e.count; ++item) {
-      for (size_t k = 0; k < e.properties.size(); ++k) {
-        const Property& p = e.properties[k];
-        if (!p.list) {
-          if (!reader.read(p.type, values[k])) return ended(item);
-          continue;
-        }
-        double count = 0;
-        // each item takes a byte at least: a larger count is a corrupt file, not a big face
-        if (!reader.read(p.count_type, count) || count < 0 || count != std::floor(count) ||
-            count > static_cast<double>(reader.remaining()))
-          return ended(item);
-        const bool keep = &e == &*face && static_cast<int>(k) == indices;
-        if (keep) polygon.resize(static_cast<size_t>(count));
-        for (size_t j = 0; j < static_cast<size_t>(count); ++j) {
-          double v = 0;
-          if (!reader.read(p.type, v)) return ended(item);
-          if (keep) polygon[j] = v;
-        }
-      }
-      if (&e == &*vertex) {
+      if (!read_item(reader, e, keep, values, polygon)) return ended(item);
+      if (&e == vertex) {
         mesh.vertices.push_back({values[static_cast<size_t>(xyz[0])],
                                  values[static_cast<size_t>(xyz[1])],
                                  values[static_cast<size_t>(xyz[2])]});
-      } else if (&e == &*face) {
-        if (polygon.size() < 3)
-          return make_unexpected("face " + std::to_string(item) + " has " +
-                                 std::to_string(polygon.size()) + " vertices, fewer than 3");
-        for (const double v : polygon)
-          if (!(v >= 0) || v >= static_cast<double>(vertex->count) || v != std::floor(v))
-            return make_unexpected("face " + std::to_string(item) + " refers to vertex " +
-                                   number(v) + ", but there are " + std::to_string(vertex->count) +
-                                   " vertices");
-        // a polygon as a fan of triangles around its first vertex
-        for (size_t j = 1; j + 1 < polygon.size(); ++j)
-          mesh.triangles.push_back({static_cast<uint32_t>(polygon[0]),
-                                    static_cast<uint32_t>(polygon[j]),
-                                    static_cast<uint32_t>(polygon[j + 1])});
+      } else if (&e == face) {
+        if (std::string problem = add_face(polygon, item, vertex->count, mesh); !problem.empty())
+          return make_unexpected(problem);
       }
     }
   }

@@ -28,6 +28,49 @@ bool box_meets(const BlockIndex& lo, const BlockIndex& hi, const BlockSet& block
   return false;
 }
 
+// the blocks within k blocks (per axis) of any of the centres
+BlockSet blocks_within(const std::vector<BlockIndex>& centres, int k) {
+  BlockSet out;
+  for (const BlockIndex& b : centres)
+    for (int z = -k; z <= k; ++z)
+      for (int y = -k; y <= k; ++y)
+        for (int x = -k; x <= k; ++x) out.insert(b + BlockIndex(x, y, z));
+  return out;
+}
+
+// the smallest box [lo, hi] holding the blocks (lo > hi when there are none)
+void block_bounds(const std::vector<BlockIndex>& blocks, BlockIndex& lo, BlockIndex& hi) {
+  lo = BlockIndex::Constant(std::numeric_limits<int>::max());
+  hi = BlockIndex::Constant(std::numeric_limits<int>::min());
+  for (const BlockIndex& b : blocks) {
+    lo = lo.cwiseMin(b);
+    hi = hi.cwiseMax(b);
+  }
+}
+
+// the largest clearance region reach over the robot types, metres
+double max_clearance_m(const IseConfig& config) {
+  double clearance = 0;
+  for (const RobotTypeSpec& t : config.robot_types)
+    clearance = std::max(
+        clearance,
+        t.clearance_m + (t.type == RobotKind::kGround ? t.body_height_m + t.camera_height_m : 0.0));
+  return clearance;
+}
+
+// drops given-up ISEs from each C_q, and the viewpoints left with nothing else to do
+void drop_given_up(std::vector<Viewpoint>& viewpoints, const std::vector<uint8_t>& gave_up) {
+  // what is left to see from each viewpoint; one that saw only given-up ISEs and was made
+  // for given-up ISEs only goes (one made for an ISE still inspectable stays: that ISE's
+  // only way to be seen, or given up in turn)
+  std::erase_if(viewpoints, [&](Viewpoint& v) {
+    const bool saw = !v.seen.empty();
+    std::erase_if(v.seen, [&](uint32_t id) { return gave_up[id] != 0; });
+    return saw && v.seen.empty() &&
+           std::all_of(v.ises.begin(), v.ises.end(), [&](uint32_t id) { return gave_up[id] != 0; });
+  });
+}
+
 }  // namespace
 
 Result<IsePipeline, std::string> IsePipeline::create(const IseConfig& config, double w_th,
@@ -90,20 +133,81 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
 
   // 1. ISEs of the dirty blocks: the changed ones and their neighbours that exist
   auto t0 = Clock::now();
-  BlockSet dirty_set;
-  for (const BlockIndex& b : changed)
-    for (int z = -1; z <= 1; ++z)
-      for (int y = -1; y <= 1; ++y)
-        for (int x = -1; x <= 1; ++x) dirty_set.insert(b + BlockIndex(x, y, z));
+  const BlockSet dirty_set = blocks_within(changed, 1);
   std::vector<BlockIndex> dirty(dirty_set.begin(), dirty_set.end());
   std::sort(dirty.begin(), dirty.end(), BlockOrder());
   stats.dirty_blocks = dirty.size();
-  BlockIndex dirty_lo = BlockIndex::Constant(std::numeric_limits<int>::max());
-  BlockIndex dirty_hi = BlockIndex::Constant(std::numeric_limits<int>::min());
-  for (const BlockIndex& b : dirty) {
-    dirty_lo = dirty_lo.cwiseMin(b);
-    dirty_hi = dirty_hi.cwiseMax(b);
+  BlockIndex dirty_lo, dirty_hi;
+  block_bounds(dirty, dirty_lo, dirty_hi);
+  extract_dirty(snap, dirty);
+  stats.extract_ms = ms_since(t0);
+
+  // 2. candidate viewpoints: new for the dirty blocks; feasibility rechecked where a
+  //    changed block is within reach of the clearance region
+  t0 = Clock::now();
+  const double clearance = max_clearance_m(config_);
+  const int k = static_cast<int>(std::ceil((clearance + snap.voxel_m()) / block_m));
+  BlockSet near_changed;
+  if (!full) near_changed = blocks_within(changed, k);
+  make_candidates(dirty);
+  check_feasibility(snap, near_changed, full);
+
+  // 3. the ISE list, in block order, and the feasible candidates with global ISE indices
+  IseResult out;
+  out.map_sequence = snap.sequence();
+  IseIndex index;
+  std::vector<uint8_t> gave_up;
+  std::vector<Viewpoint> feasible_candidates = gather(out, index, gave_up);
+  stats.candidates = feasible_candidates.size();
+
+  // 4. merging (2.4.2); each merged pose's robot types
+  out.viewpoints = merge(snap, config_, std::move(feasible_candidates));
+  assign_types(snap, out.viewpoints);
+  stats.viewpoints_ms = ms_since(t0);
+
+  // 5. visibility: cached C_q unless the frustum box meets a dirty block
+  t0 = Clock::now();
+  if (!full)
+    for (auto it = seen_.begin(); it != seen_.end();)
+      it = box_meets(it->second.lo, it->second.hi, dirty_set, dirty_lo, dirty_hi) ? seen_.erase(it)
+                                                                                  : std::next(it);
+  const size_t computed = compute_visibility(snap, block_m, index, out);
+  const size_t merged_viewpoints = out.viewpoints.size();
+  if (!given_up_.empty()) drop_given_up(out.viewpoints, gave_up);
+  for (Viewpoint& v : out.viewpoints) {
+    std::sort(v.seen.begin(), v.seen.end());
+    for (uint32_t id : v.seen) out.inspectable[id] = 1;
   }
+  stats.visibility_computed = computed;
+  stats.visibility_reused = merged_viewpoints - computed;
+  stats.visibility_ms = ms_since(t0);
+
+  // 6. clusters and gains (2.4.3)
+  t0 = Clock::now();
+  out.clusters = cluster_viewpoints(out.viewpoints, config_.d_v_m, config_.d_v_max_m);
+  compute_gains(out.clusters, out.viewpoints, out.ises.size());
+  stats.cluster_ms = ms_since(t0);
+
+  for (uint32_t i = 0; i < out.ises.size(); ++i)
+    if (out.inspectable[i] == 0) out.remaining.push_back(i);
+  out.inspectable_count = out.ises.size() - out.remaining.size();
+  had_ises_ = had_ises_ || !out.ises.empty();
+  empty_updates_ = (had_ises_ && out.inspectable_count == 0) ? empty_updates_ + 1 : 0;
+  out.complete = empty_updates_ >= config_.completion_updates;
+  stats.total_ms = ms_since(t_start);
+  out.stats = stats;
+  result_ = std::move(out);
+  have_ = true;
+  sequence_ = snap.sequence();
+  blocks_.clear();
+  blocks_.reserve(snap.block_count());
+  for (const auto& [index, block] : snap.blocks()) blocks_.push_back(index);
+  voxel_m_ = snap.voxel_m();
+}
+
+// recomputes the ISEs of the dirty blocks (kept only inside the region) into ises_
+void IsePipeline::extract_dirty(const tsdf::MapSnapshot& snap,
+                                const std::vector<BlockIndex>& dirty) {
   std::vector<std::vector<Ise>> fresh = extract_blocks(snap, dirty);
   for (size_t i = 0; i < dirty.size(); ++i) {
     std::erase_if(fresh[i],
@@ -113,23 +217,10 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
     else
       ises_[dirty[i]] = std::move(fresh[i]);
   }
-  stats.extract_ms = ms_since(t0);
+}
 
-  // 2. candidate viewpoints: new for the dirty blocks; feasibility rechecked where a
-  //    changed block is within reach of the clearance region
-  t0 = Clock::now();
-  double clearance = 0;
-  for (const RobotTypeSpec& t : config_.robot_types)
-    clearance = std::max(
-        clearance,
-        t.clearance_m + (t.type == RobotKind::kGround ? t.body_height_m + t.camera_height_m : 0.0));
-  const int k = static_cast<int>(std::ceil((clearance + snap.voxel_m()) / block_m));
-  BlockSet near_changed;
-  if (!full)
-    for (const BlockIndex& b : changed)
-      for (int z = -k; z <= k; ++z)
-        for (int y = -k; y <= k; ++y)
-          for (int x = -k; x <= k; ++x) near_changed.insert(b + BlockIndex(x, y, z));
+// makes the candidate viewpoints of the dirty blocks' ISEs, all marked to check
+void IsePipeline::make_candidates(const std::vector<BlockIndex>& dirty) {
   for (const BlockIndex& b : dirty) {
     const auto it = ises_.find(b);
     if (it == ises_.end()) {
@@ -146,6 +237,12 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
     bc.feasible.assign(bc.candidates.size(), 2);  // 2: to check
     candidates_[b] = std::move(bc);
   }
+}
+
+// checks the feasibility of new candidates and of those near a changed block, in parallel
+void IsePipeline::check_feasibility(
+    const tsdf::MapSnapshot& snap,
+    const std::unordered_set<BlockIndex, tsdf::BlockIndexHash>& near_changed, bool full) {
   // everything to check, in one parallel pass
   std::vector<std::pair<BlockCandidates*, size_t>> to_check;
   for (auto& [b, bc] : candidates_)
@@ -162,12 +259,13 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
           bc->feasible[j] = feasible(states_, snap.voxel_m(), spec(c.type), c.position) ? 1 : 0;
         }
       });
+}
 
-  // 3. the ISE list, in block order, and the feasible candidates with global ISE indices
-  IseResult out;
-  out.map_sequence = snap.sequence();
+// fills out's ISE list and inspectable flags, index and gave_up; returns the feasible
+// candidates (not for given-up ISEs) with global ISE indices
+std::vector<Viewpoint> IsePipeline::gather(IseResult& out, IseIndex& index,
+                                           std::vector<uint8_t>& gave_up) const {
   std::vector<Viewpoint> feasible_candidates;
-  IseIndex index;
   for (const auto& [b, list] : ises_) {
     const auto offset = static_cast<uint32_t>(out.ises.size());
     out.ises.insert(out.ises.end(), list.begin(), list.end());
@@ -182,7 +280,7 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
   }
   index.reserve(out.ises.size());
   for (uint32_t i = 0; i < out.ises.size(); ++i) index.emplace(out.ises[i].voxel, i);
-  std::vector<uint8_t> gave_up(out.ises.size(), 0);
+  gave_up.assign(out.ises.size(), 0);
   if (!given_up_.empty()) {
     for (uint32_t i = 0; i < out.ises.size(); ++i)
       gave_up[i] = given_up_.contains(out.ises[i].voxel) ? 1 : 0;
@@ -190,28 +288,28 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
   }
   out.inspectable.assign(out.ises.size(), 0);
   for (const Viewpoint& c : feasible_candidates) out.inspectable[c.ises[0]] = 1;
-  stats.candidates = feasible_candidates.size();
+  return feasible_candidates;
+}
 
-  // 4. merging (2.4.2); each merged pose's robot types
-  out.viewpoints = merge(snap, config_, std::move(feasible_candidates));
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, out.viewpoints.size(), 16),
+// sets each merged viewpoint's robot types: its own and every other type feasible there
+void IsePipeline::assign_types(const tsdf::MapSnapshot& snap,
+                               std::vector<Viewpoint>& viewpoints) const {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, viewpoints.size(), 16),
                     [&](const tbb::blocked_range<size_t>& r) {
                       for (size_t i = r.begin(); i != r.end(); ++i) {
-                        Viewpoint& v = out.viewpoints[i];
+                        Viewpoint& v = viewpoints[i];
                         v.types = robot::kind_bit(v.type);
                         for (const RobotTypeSpec& t : config_.robot_types)
                           if (t.type != v.type && feasible(states_, snap.voxel_m(), t, v.position))
                             v.types |= robot::kind_bit(t.type);
                       }
                     });
-  stats.viewpoints_ms = ms_since(t0);
+}
 
-  // 5. visibility: cached C_q unless the frustum box meets a dirty block
-  t0 = Clock::now();
-  if (!full)
-    for (auto it = seen_.begin(); it != seen_.end();)
-      it = box_meets(it->second.lo, it->second.hi, dirty_set, dirty_lo, dirty_hi) ? seen_.erase(it)
-                                                                                  : std::next(it);
+// fills each viewpoint's C_q, from seen_ where cached, else computed (and cached);
+// returns how many were computed
+size_t IsePipeline::compute_visibility(const tsdf::MapSnapshot& snap, double block_m,
+                                       const IseIndex& index, IseResult& out) {
   std::vector<size_t> compute;
   std::vector<const Seen*> cached(out.viewpoints.size(), nullptr);
   for (size_t i = 0; i < out.viewpoints.size(); ++i) {
@@ -245,48 +343,7 @@ void IsePipeline::run(const tsdf::MapSnapshot& snap, const std::vector<BlockInde
     for (const VoxelIndex& voxel : computed[i].ises) v.seen.push_back(index.find(voxel));
     seen_[key_of(v)] = std::move(computed[i]);
   }
-  const size_t merged_viewpoints = out.viewpoints.size();
-  if (!given_up_.empty()) {
-    // what is left to see from each viewpoint; one that saw only given-up ISEs and was made
-    // for given-up ISEs only goes (one made for an ISE still inspectable stays: that ISE's
-    // only way to be seen, or given up in turn)
-    std::erase_if(out.viewpoints, [&](Viewpoint& v) {
-      const bool saw = !v.seen.empty();
-      std::erase_if(v.seen, [&](uint32_t id) { return gave_up[id] != 0; });
-      return saw && v.seen.empty() && std::all_of(v.ises.begin(), v.ises.end(), [&](uint32_t id) {
-               return gave_up[id] != 0;
-             });
-    });
-  }
-  for (Viewpoint& v : out.viewpoints) {
-    std::sort(v.seen.begin(), v.seen.end());
-    for (uint32_t id : v.seen) out.inspectable[id] = 1;
-  }
-  stats.visibility_computed = compute.size();
-  stats.visibility_reused = merged_viewpoints - compute.size();
-  stats.visibility_ms = ms_since(t0);
-
-  // 6. clusters and gains (2.4.3)
-  t0 = Clock::now();
-  out.clusters = cluster_viewpoints(out.viewpoints, config_.d_v_m, config_.d_v_max_m);
-  compute_gains(out.clusters, out.viewpoints, out.ises.size());
-  stats.cluster_ms = ms_since(t0);
-
-  for (uint32_t i = 0; i < out.ises.size(); ++i)
-    if (out.inspectable[i] == 0) out.remaining.push_back(i);
-  out.inspectable_count = out.ises.size() - out.remaining.size();
-  had_ises_ = had_ises_ || !out.ises.empty();
-  empty_updates_ = (had_ises_ && out.inspectable_count == 0) ? empty_updates_ + 1 : 0;
-  out.complete = empty_updates_ >= config_.completion_updates;
-  stats.total_ms = ms_since(t_start);
-  out.stats = stats;
-  result_ = std::move(out);
-  have_ = true;
-  sequence_ = snap.sequence();
-  blocks_.clear();
-  blocks_.reserve(snap.block_count());
-  for (const auto& [index, block] : snap.blocks()) blocks_.push_back(index);
-  voxel_m_ = snap.voxel_m();
+  return compute.size();
 }
 
 }  // namespace scancrew::ise

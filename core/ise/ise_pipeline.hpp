@@ -104,6 +104,17 @@ class IsePipeline {
   };
 
   void run(const tsdf::MapSnapshot& snap, const std::vector<BlockIndex>& changed, bool full);
+  // run()'s steps (ise_pipeline.cpp)
+  void extract_dirty(const tsdf::MapSnapshot& snap, const std::vector<BlockIndex>& dirty);
+  void make_candidates(const std::vector<BlockIndex>& dirty);
+  void check_feasibility(const tsdf::MapSnapshot& snap,
+                         const std::unordered_set<BlockIndex, tsdf::BlockIndexHash>& near_changed,
+                         bool full);
+  std::vector<Viewpoint> gather(IseResult& out, IseIndex& index,
+                                std::vector<uint8_t>& gave_up) const;
+  void assign_types(const tsdf::MapSnapshot& snap, std::vector<Viewpoint>& viewpoints) const;
+  size_t compute_visibility(const tsdf::MapSnapshot& snap, double block_m, const IseIndex& index,
+                            IseResult& out);
   const RobotTypeSpec& spec(RobotKind type) const;
   static PoseKey key_of(const Viewpoint& v);
 

@@ -32,7 +32,8 @@
 // path within planner_time_limit_s (kTimeout), OMPL refusing the query (kPlannerError). A failing
 // status is logged once per (status, goal); the caller decides (replan, wait, back off).
 //
-// Thread safety: none; one thread maps and plans. OMPL, FCL and OctoMap stay in the .cpp.
+// Thread safety: none; one thread maps and plans. OMPL, FCL and OctoMap stay in the .cpp
+// files (the private motion_planner_impl.hpp).
 
 #include <cstddef>
 #include <cstdint>

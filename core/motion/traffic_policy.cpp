@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 namespace scancrew::motion {
 
@@ -185,15 +186,45 @@ bool TrafficPolicy::in_view(const TrafficAgent& self, const TrafficAgent& other,
   return angle <= 0.5 * config_.fov_deg * std::numbers::pi / 180.0;
 }
 
+// whether q is an aside point for self: free, reachable in a straight line, and `extra` beyond
+// the clearance of every teammate's path (the priority robot's whole path, the others' up to
+// the horizon)
+bool TrafficPolicy::aside_fits(const Eigen::Vector3d& q, double extra, const TrafficAgent& self,
+                               std::span<const TrafficAgent> teammates,
+                               const TrafficAgent& priority, const FreeSpaceQuery& free) {
+  const bool planar = config_.kind == RobotKind::kGround;
+  auto horizon = [this](const TrafficAgent& x, const TrafficAgent& y) {
+    return config_.safety_distance_m(nominal_of(x)) + config_.safety_distance_m(nominal_of(y));
+  };
+  const double step = config_.sample_step_m;
+  auto segment_free = [&](const Eigen::Vector3d& to) {
+    const double len = (to - self.position).norm();
+    const int n_samples = static_cast<int>(std::ceil(len / step));
+    for (int i = 1; i <= n_samples; ++i)
+      if (!free(self.position + (to - self.position) * (static_cast<double>(i) / n_samples)))
+        return false;
+    return true;
+  };
+  // a point within the tracker's position tolerance would be "reached" without a move,
+  // and the robot would stay in the way (the parking lot's distributed pair, 0.09 m)
+  if ((q - self.position).norm() < config_.aside_min_move_m) return false;
+  if (!free(q) || !segment_free(q)) return false;
+  for (const TrafficAgent& j : teammates) {
+    if (j.id == self.id || !finite(j)) continue;
+    own_.assign(j.position, j.path,
+                j.id == priority.id ? std::numeric_limits<double>::infinity() : horizon(self, j),
+                planar);
+    if (own_.closest(q).distance_m < clearance(self, j, config_) + extra) return false;
+  }
+  return true;
+}
+
 bool TrafficPolicy::find_aside_point(const TrafficAgent& self,
                                      std::span<const TrafficAgent> teammates,
                                      const TrafficAgent& priority, const FreeSpaceQuery& free,
                                      Eigen::Vector3d& aside) {
   if (!free) return false;
   const bool planar = config_.kind == RobotKind::kGround;
-  auto horizon = [this](const TrafficAgent& x, const TrafficAgent& y) {
-    return config_.safety_distance_m(nominal_of(x)) + config_.safety_distance_m(nominal_of(y));
-  };
   // the priority robot's whole path: it will pass the aside point, however far ahead
   other_.assign(priority.position, priority.path, std::numeric_limits<double>::infinity(), planar);
   const Polyline::Closest c = other_.closest(self.position);
@@ -213,30 +244,8 @@ bool TrafficPolicy::find_aside_point(const TrafficAgent& self,
   const size_t dir_count = planar ? 2 : 4;
 
   const double clear = clearance(self, priority, config_);
-  const double step = config_.sample_step_m;
-  auto segment_free = [&](const Eigen::Vector3d& to) {
-    const double len = (to - self.position).norm();
-    const int n_samples = static_cast<int>(std::ceil(len / step));
-    for (int i = 1; i <= n_samples; ++i)
-      if (!free(self.position + (to - self.position) * (static_cast<double>(i) / n_samples)))
-        return false;
-    return true;
-  };
-  // free, reachable in a straight line, and `extra` beyond the clearance of every
-  // teammate's path (the priority robot's whole path, the others' up to the horizon)
   auto fits = [&](const Eigen::Vector3d& q, double extra) {
-    // a point within the tracker's position tolerance would be "reached" without a move,
-    // and the robot would stay in the way (the parking lot's distributed pair, 0.09 m)
-    if ((q - self.position).norm() < config_.aside_min_move_m) return false;
-    if (!free(q) || !segment_free(q)) return false;
-    for (const TrafficAgent& j : teammates) {
-      if (j.id == self.id || !finite(j)) continue;
-      own_.assign(j.position, j.path,
-                  j.id == priority.id ? std::numeric_limits<double>::infinity() : horizon(self, j),
-                  planar);
-      if (own_.closest(q).distance_m < clearance(self, j, config_) + extra) return false;
-    }
-    return true;
+    return aside_fits(q, extra, self, teammates, priority, free);
   };
   const int lateral_count =
       static_cast<int>(
@@ -310,6 +319,86 @@ bool TrafficPolicy::on_way_ahead_of(const TrafficAgent& k, const TrafficAgent& s
   return ahead && other_.closest(self.position).distance_m < clearance(self, k, config_);
 }
 
+// the reasons to yield to the teammates, own_ holding the way the robot is about to move
+TrafficPolicy::Reasons TrafficPolicy::reasons(const TrafficAgent& self,
+                                              std::span<const TrafficAgent> teammates,
+                                              double reach) {
+  const bool moving = own_.points().size() >= 2;
+  const Eigen::Vector3d own_start = own_.points().front();
+  const Eigen::Vector3d own_dir = own_.tangent(0);
+
+  // the most urgent reason of each kind (smallest arc length, then lowest id)
+  Reasons r;
+  auto consider = [](const Candidate& c, Candidate& best, bool& want) {
+    if (!want || c.s_m < best.s_m || (c.s_m == best.s_m && c.robot < best.robot)) best = c;
+    want = true;
+  };
+  for (const TrafficAgent& k : teammates) {
+    if (k.id == self.id || !finite(k)) continue;
+    const PairConflict pc = pair_conflict(self, k, config_);
+    if (pc.found && pc.priority_id != self.id) {
+      const double s_self = pc.s_of(self.id, std::min(self.id, k.id));
+      if (s_self <= reach) {
+        const bool inside = s_self < 0.5 * config_.sample_step_m;
+        const bool aside =
+            pc.encounter == Encounter::kFrontal || pc.encounter == Encounter::kBlocking ||
+            (pc.encounter == Encounter::kCrossing && inside) || on_way_ahead_of(k, self);
+        if (aside)
+          consider({TrafficAction::kStepAside, pc.encounter, k.id, s_self}, r.aside, r.want_aside);
+        else
+          consider({TrafficAction::kStopAndWait, pc.encounter, k.id, s_self}, r.stop, r.want_stop);
+      }
+    }
+    // safety net: a body on the way ahead stops the robot, whatever the priority
+    if (moving) {
+      const Polyline::Closest c = own_.closest(k.position);
+      const bool ahead = (own_.project(k.position) - own_start).dot(own_dir) > 0;
+      if (ahead && c.distance_m < clearance(self, k, config_))
+        consider({TrafficAction::kStopAndWait, Encounter::kIntrusion, k.id, c.s_m}, r.net,
+                 r.want_net);
+    }
+  }
+  return r;
+}
+
+// the hold the reasons call for (stepping aside, or stopping), switching mode; nothing when
+// they call for none
+std::optional<TrafficDecision> TrafficPolicy::decide(const Reasons& r, const TrafficAgent& self,
+                                                     std::span<const TrafficAgent> teammates,
+                                                     const FreeSpaceQuery& free, double now_s) {
+  if (mode_ == Mode::kAside) {
+    if (r.want_aside || r.want_stop) {
+      // still yielding: go to (or stay at) the aside point, pausing while a body is on the way
+      if (r.want_net) return hold(TrafficAction::kStopAndWait, r.net, now_s);
+      return hold(TrafficAction::kStepAside, r.want_aside ? r.aside : r.stop, now_s);
+    }
+  } else {
+    if (r.want_aside) {
+      const auto it = std::find_if(teammates.begin(), teammates.end(),
+                                   [&](const TrafficAgent& k) { return k.id == r.aside.robot; });
+      Eigen::Vector3d q;
+      if (find_aside_point(self, teammates, *it, free, q)) {
+        mode_ = Mode::kAside;
+        aside_ = q;
+        aside_yaw_ = self.yaw_rad;
+        return hold(TrafficAction::kStepAside, r.aside, now_s);
+      }
+      mode_ = Mode::kWaiting;
+      TrafficDecision out = hold(TrafficAction::kStopAndWait, r.aside, now_s);
+      out.no_aside_point = true;
+      return out;
+    }
+    if (r.want_stop || r.want_net) {
+      mode_ = Mode::kWaiting;
+      const bool net_first =
+          !r.want_stop || (r.want_net && (r.net.s_m < r.stop.s_m ||
+                                          (r.net.s_m == r.stop.s_m && r.net.robot < r.stop.robot)));
+      return hold(TrafficAction::kStopAndWait, net_first ? r.net : r.stop, now_s);
+    }
+  }
+  return std::nullopt;
+}
+
 TrafficDecision TrafficPolicy::update(const TrafficAgent& self,
                                       std::span<const TrafficAgent> teammates,
                                       const FreeSpaceQuery& free, double now_s) {
@@ -333,73 +422,9 @@ TrafficDecision TrafficPolicy::update(const TrafficAgent& self,
                 std::numeric_limits<double>::infinity(), planar);
   else
     own_.assign(self.position, self.path, reach, planar);
-  const bool moving = own_.points().size() >= 2;
-  const Eigen::Vector3d own_start = own_.points().front();
-  const Eigen::Vector3d own_dir = own_.tangent(0);
 
-  // the most urgent reason of each kind (smallest arc length, then lowest id)
-  Candidate aside_c, stop_c, net_c;
-  bool want_aside = false, want_stop = false, want_net = false;
-  auto consider = [](const Candidate& c, Candidate& best, bool& want) {
-    if (!want || c.s_m < best.s_m || (c.s_m == best.s_m && c.robot < best.robot)) best = c;
-    want = true;
-  };
-  for (const TrafficAgent& k : teammates) {
-    if (k.id == self.id || !finite(k)) continue;
-    const PairConflict pc = pair_conflict(self, k, config_);
-    if (pc.found && pc.priority_id != self.id) {
-      const double s_self = pc.s_of(self.id, std::min(self.id, k.id));
-      if (s_self <= reach) {
-        const bool inside = s_self < 0.5 * config_.sample_step_m;
-        const bool aside =
-            pc.encounter == Encounter::kFrontal || pc.encounter == Encounter::kBlocking ||
-            (pc.encounter == Encounter::kCrossing && inside) || on_way_ahead_of(k, self);
-        if (aside)
-          consider({TrafficAction::kStepAside, pc.encounter, k.id, s_self}, aside_c, want_aside);
-        else
-          consider({TrafficAction::kStopAndWait, pc.encounter, k.id, s_self}, stop_c, want_stop);
-      }
-    }
-    // safety net: a body on the way ahead stops the robot, whatever the priority
-    if (moving) {
-      const Polyline::Closest c = own_.closest(k.position);
-      const bool ahead = (own_.project(k.position) - own_start).dot(own_dir) > 0;
-      if (ahead && c.distance_m < clearance(self, k, config_))
-        consider({TrafficAction::kStopAndWait, Encounter::kIntrusion, k.id, c.s_m}, net_c,
-                 want_net);
-    }
-  }
-
-  if (mode_ == Mode::kAside) {
-    if (want_aside || want_stop) {
-      // still yielding: go to (or stay at) the aside point, pausing while a body is on the way
-      if (want_net) return hold(TrafficAction::kStopAndWait, net_c, now_s);
-      return hold(TrafficAction::kStepAside, want_aside ? aside_c : stop_c, now_s);
-    }
-  } else {
-    if (want_aside) {
-      const auto it = std::find_if(teammates.begin(), teammates.end(),
-                                   [&](const TrafficAgent& k) { return k.id == aside_c.robot; });
-      Eigen::Vector3d q;
-      if (find_aside_point(self, teammates, *it, free, q)) {
-        mode_ = Mode::kAside;
-        aside_ = q;
-        aside_yaw_ = self.yaw_rad;
-        return hold(TrafficAction::kStepAside, aside_c, now_s);
-      }
-      mode_ = Mode::kWaiting;
-      TrafficDecision out = hold(TrafficAction::kStopAndWait, aside_c, now_s);
-      out.no_aside_point = true;
-      return out;
-    }
-    if (want_stop || want_net) {
-      mode_ = Mode::kWaiting;
-      const bool net_first =
-          !want_stop || (want_net && (net_c.s_m < stop_c.s_m ||
-                                      (net_c.s_m == stop_c.s_m && net_c.robot < stop_c.robot)));
-      return hold(TrafficAction::kStopAndWait, net_first ? net_c : stop_c, now_s);
-    }
-  }
+  const Reasons r = reasons(self, teammates, reach);
+  if (std::optional<TrafficDecision> held = decide(r, self, teammates, free, now_s)) return *held;
   if (mode_ == Mode::kFree) return {};
   // after a crossing: until the teammate leaves the field of view (or is far enough)
   if (mode_ == Mode::kWaiting && held_encounter_ == Encounter::kCrossing &&

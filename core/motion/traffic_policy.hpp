@@ -34,6 +34,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -147,9 +148,20 @@ class TrafficPolicy {
     uint32_t robot = 0;
     double s_m = 0;
   };
+  struct Reasons {  // the most urgent reason of each kind, and whether there is one
+    Candidate aside, stop, net;
+    bool want_aside = false, want_stop = false, want_net = false;
+  };
   bool find_aside_point(const TrafficAgent& self, std::span<const TrafficAgent> teammates,
                         const TrafficAgent& priority, const FreeSpaceQuery& free,
                         Eigen::Vector3d& aside);
+  bool aside_fits(const Eigen::Vector3d& q, double extra, const TrafficAgent& self,
+                  std::span<const TrafficAgent> teammates, const TrafficAgent& priority,
+                  const FreeSpaceQuery& free);
+  Reasons reasons(const TrafficAgent& self, std::span<const TrafficAgent> teammates, double reach);
+  std::optional<TrafficDecision> decide(const Reasons& r, const TrafficAgent& self,
+                                        std::span<const TrafficAgent> teammates,
+                                        const FreeSpaceQuery& free, double now_s);
   bool in_view(const TrafficAgent& self, const TrafficAgent& other, double range_m) const;
   bool on_way_ahead_of(const TrafficAgent& k, const TrafficAgent& self);
   TrafficDecision hold(TrafficAction action, const Candidate& c, double now_s);

@@ -191,19 +191,8 @@ void Integrator::select_blocks(const DepthFrame& f, float frame_max) {
   }
 }
 
-Result<IntegrationStats, std::string> Integrator::integrate(TsdfMap& map, const DepthFrame& f) {
-  if (auto problem = check_header(f); !problem.empty()) return make_unexpected(problem);
-  if (map.config().voxel_m != config_.voxel_m)
-    return make_unexpected(std::string("integrator and map have different voxel sizes"));
-  if (auto problem = scan_tiles(f); !problem.empty()) return make_unexpected(problem);
-  IntegrationStats stats;
-  const float frame_max = *std::max_element(tile_max_.begin(), tile_max_.end());
-  if (frame_max < 0) return stats;
-  select_blocks(f, frame_max);
-  stats.candidate_blocks = candidates_.size();
-
-  // 3. blocks writable (allocated, or copied away from snapshots), then integrated in parallel
-  const uint64_t sequence = map.begin_update();
+// makes the candidate blocks writable (allocated, or copied away from snapshots) as work_
+void Integrator::touch_blocks(TsdfMap& map) {
   work_.resize(candidates_.size());
   for (size_t i = 0; i < candidates_.size(); ++i) {
     BlockWork& bw = work_[i];
@@ -212,6 +201,10 @@ Result<IntegrationStats, std::string> Integrator::integrate(TsdfMap& map, const 
     bw.block = &map.touch(candidates_[i]);
     bw.updated = 0;
   }
+}
+
+// integrates the frame into the work_ blocks in parallel, marking the updated ones with sequence
+void Integrator::integrate_blocks(const DepthFrame& f, uint64_t sequence) {
   const Eigen::Isometry3f T_cam_world = f.T_world_cam.inverse().cast<float>();
   const Eigen::Matrix3f rotation = T_cam_world.linear();
   const Eigen::Vector3f t = T_cam_world.translation();
@@ -278,6 +271,23 @@ Result<IntegrationStats, std::string> Integrator::integrate(TsdfMap& map, const 
           if (updated > 0) bw.block->modified = sequence;
         }
       });
+}
+
+Result<IntegrationStats, std::string> Integrator::integrate(TsdfMap& map, const DepthFrame& f) {
+  if (auto problem = check_header(f); !problem.empty()) return make_unexpected(problem);
+  if (map.config().voxel_m != config_.voxel_m)
+    return make_unexpected(std::string("integrator and map have different voxel sizes"));
+  if (auto problem = scan_tiles(f); !problem.empty()) return make_unexpected(problem);
+  IntegrationStats stats;
+  const float frame_max = *std::max_element(tile_max_.begin(), tile_max_.end());
+  if (frame_max < 0) return stats;
+  select_blocks(f, frame_max);
+  stats.candidate_blocks = candidates_.size();
+
+  // 3. blocks writable (allocated, or copied away from snapshots), then integrated in parallel
+  const uint64_t sequence = map.begin_update();
+  touch_blocks(map);
+  integrate_blocks(f, sequence);
 
   for (const BlockWork& bw : work_) {
     if (bw.updated == 0) {

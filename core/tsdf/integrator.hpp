@@ -69,6 +69,8 @@ class Integrator {
   };
   std::string scan_tiles(const DepthFrame& frame);
   void select_blocks(const DepthFrame& frame, float frame_max);
+  void touch_blocks(TsdfMap& map);
+  void integrate_blocks(const DepthFrame& f, uint64_t sequence);
 
   TsdfConfig config_;
   int tiles_x_ = 0, tiles_y_ = 0;

@@ -102,6 +102,47 @@ bool index_less(const BlockIndex& a, const BlockIndex& b) {
   return a.x() < b.x();
 }
 
+// adds the vertex where the surface cuts the edge from local voxel `low` along `axis`, with
+// its gradient normal (zero, and needs_face_normals set, where the gradient vanishes);
+// returns its index
+uint32_t add_edge_vertex(const Grid& grid, const Eigen::Vector3i& origin,
+                         const Eigen::Vector3i& low, int axis, double voxel_m, BlockMesh& mesh,
+                         bool& needs_face_normals) {
+  Eigen::Vector3i high = low;
+  high[axis] += 1;
+  const Eigen::Vector3i g0 = low + Eigen::Vector3i::Ones();
+  const Eigen::Vector3i g1 = high + Eigen::Vector3i::Ones();
+  const float d0 = grid[static_cast<size_t>(grid_index(g0.x(), g0.y(), g0.z()))];
+  const float d1 = grid[static_cast<size_t>(grid_index(g1.x(), g1.y(), g1.z()))];
+  // the signs differ, so d0 ≠ d1 and t ∈ [0, 1]
+  const double t = static_cast<double>(d0) / (static_cast<double>(d0) - d1);
+  Eigen::Vector3d p = (origin + low).cast<double>() + Eigen::Vector3d::Constant(0.5);
+  p[axis] += t;
+  const Eigen::Vector3f n =
+      (1 - static_cast<float>(t)) * gradient(grid, g0) + static_cast<float>(t) * gradient(grid, g1);
+  const float norm = n.norm();
+  needs_face_normals |= !(norm > 1e-12f);
+  const auto vertex = static_cast<uint32_t>(mesh.vertices.size());
+  mesh.vertices.push_back((p * voxel_m).cast<float>());
+  mesh.normals.push_back(norm > 1e-12f ? Eigen::Vector3f(n / norm) : Eigen::Vector3f::Zero());
+  return vertex;
+}
+
+// where the gradient vanished: the area-weighted normal of the vertex's triangles
+void fill_face_normals(BlockMesh& mesh) {
+  std::vector<Eigen::Vector3f> sum(mesh.vertices.size(), Eigen::Vector3f::Zero());
+  for (const Triangle& t : mesh.triangles) {
+    const Eigen::Vector3f n = (mesh.vertices[t[1]] - mesh.vertices[t[0]])
+                                  .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+    for (uint32_t i : t) sum[i] += n;
+  }
+  for (size_t i = 0; i < mesh.normals.size(); ++i)
+    if (mesh.normals[i].isZero(0)) {
+      const float norm = sum[i].norm();
+      mesh.normals[i] = norm > 0 ? Eigen::Vector3f(sum[i] / norm) : Eigen::Vector3f::UnitZ();
+    }
+}
+
 }  // namespace
 
 BlockMesh mesh_block(const MapSnapshot& snap, const BlockIndex& index, float min_weight) {
@@ -145,26 +186,9 @@ BlockMesh mesh_block(const MapSnapshot& snap, const BlockIndex& index, float min
           const int axis = kEdges.axis[j];
           const int slot_index = ((low.z() * kEdgeSide + low.y()) * kEdgeSide + low.x()) * 3 + axis;
           const auto slot = static_cast<size_t>(slot_index);
-          if (edge_vertex[slot] == kNoVertex) {
-            Eigen::Vector3i high = low;
-            high[axis] += 1;
-            const Eigen::Vector3i g0 = low + Eigen::Vector3i::Ones();
-            const Eigen::Vector3i g1 = high + Eigen::Vector3i::Ones();
-            const float d0 = grid[static_cast<size_t>(grid_index(g0.x(), g0.y(), g0.z()))];
-            const float d1 = grid[static_cast<size_t>(grid_index(g1.x(), g1.y(), g1.z()))];
-            // the signs differ, so d0 ≠ d1 and t ∈ [0, 1]
-            const double t = static_cast<double>(d0) / (static_cast<double>(d0) - d1);
-            Eigen::Vector3d p = (origin + low).cast<double>() + Eigen::Vector3d::Constant(0.5);
-            p[axis] += t;
-            const Eigen::Vector3f n = (1 - static_cast<float>(t)) * gradient(grid, g0) +
-                                      static_cast<float>(t) * gradient(grid, g1);
-            const float norm = n.norm();
-            needs_face_normals |= !(norm > 1e-12f);
-            edge_vertex[slot] = static_cast<uint32_t>(mesh.vertices.size());
-            mesh.vertices.push_back((p * voxel_m).cast<float>());
-            mesh.normals.push_back(norm > 1e-12f ? Eigen::Vector3f(n / norm)
-                                                 : Eigen::Vector3f::Zero());
-          }
+          if (edge_vertex[slot] == kNoVertex)
+            edge_vertex[slot] =
+                add_edge_vertex(grid, origin, low, axis, voxel_m, mesh, needs_face_normals);
           vertex[j] = edge_vertex[slot];
         }
 
@@ -176,20 +200,7 @@ BlockMesh mesh_block(const MapSnapshot& snap, const BlockIndex& index, float min
                                     vertex[static_cast<uint8_t>(tri[k + 1])]});
       }
 
-  // where the gradient vanished: the area-weighted normal of the vertex's triangles
-  if (needs_face_normals) {
-    std::vector<Eigen::Vector3f> sum(mesh.vertices.size(), Eigen::Vector3f::Zero());
-    for (const Triangle& t : mesh.triangles) {
-      const Eigen::Vector3f n = (mesh.vertices[t[1]] - mesh.vertices[t[0]])
-                                    .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
-      for (uint32_t i : t) sum[i] += n;
-    }
-    for (size_t i = 0; i < mesh.normals.size(); ++i)
-      if (mesh.normals[i].isZero(0)) {
-        const float norm = sum[i].norm();
-        mesh.normals[i] = norm > 0 ? Eigen::Vector3f(sum[i] / norm) : Eigen::Vector3f::UnitZ();
-      }
-  }
+  if (needs_face_normals) fill_face_normals(mesh);
   return mesh;
 }
 

@@ -38,32 +38,9 @@ struct CCtxFree {
   void operator()(ZSTD_CCtx* c) const { ZSTD_freeCCtx(c); }
 };
 
-}  // namespace
-
-double weight_error_bound(const TsdfConfig& config, int weight_bits) {
-  return std::expm1(WeightQuantiser::make(config, weight_bits).s / 2);
-}
-
-std::string PatchCodecConfig::validate() const {
-  if (zstd_level < 1 || zstd_level > ZSTD_maxCLevel())
-    return "zstd_level must be in [1, " + std::to_string(ZSTD_maxCLevel()) + "]";
-  if (weight_bits < 8 || weight_bits > 16) return "weight_bits must be in [8, 16]";
-  if (max_blocks < 1 || max_blocks > (1u << 20)) return "max_blocks must be in [1, 2^20]";
-  return {};
-}
-
-Result<EncodeStats, std::string> encode_blocks(std::vector<BlockRef> blocks,
-                                               const TsdfConfig& config, msg::TsdfPatch& out,
-                                               const PatchCodecConfig& codec) {
-  if (auto problem = config.validate(); !problem.empty()) return make_unexpected(problem);
-  if (auto problem = codec.validate(); !problem.empty()) return make_unexpected(problem);
-  if (!(config.w_th >= kMinWeight && config.max_weight <= kMaxWeight))
-    return make_unexpected(
-        std::string("w_th and max_weight must be in [1e-30, 1e30] to be encoded"));
-  const auto mu = static_cast<float>(config.truncation_m);
-  const WeightQuantiser quantiser = WeightQuantiser::make(config, codec.weight_bits);
-
-  // the observed blocks, sorted, each checked
+// keeps the observed blocks, sorted, each checked; returns their observed voxel count
+Result<size_t, std::string> check_blocks(std::vector<BlockRef>& blocks,
+                                         const PatchCodecConfig& codec) {
   size_t observed_voxels = 0;
   std::erase_if(blocks, [](const BlockRef& r) {
     if (r.block == nullptr) return true;
@@ -92,12 +69,12 @@ Result<EncodeStats, std::string> encode_blocks(std::vector<BlockRef> blocks,
       ++observed_voxels;
     }
   }
+  return observed_voxels;
+}
 
-  // the payload: header, indices, masks, then the distance and weight planes
-  const int weight_bytes = codec.weight_bits > 8 ? 2 : 1;
-  std::vector<uint8_t> payload;
-  payload.reserve(kHeaderBytes + blocks.size() * (3 + kMaskBytes) +
-                  observed_voxels * (1 + weight_bytes));
+// appends the payload's header, block indices and observed-voxel masks
+void write_header(std::vector<uint8_t>& payload, const std::vector<BlockRef>& blocks,
+                  const PatchCodecConfig& codec, const WeightQuantiser& quantiser) {
   ByteWriter w{payload};
   payload.insert(payload.end(), std::begin(kMagic), std::end(kMagic));
   w.put(kPayloadVersion);
@@ -119,6 +96,12 @@ Result<EncodeStats, std::string> encode_blocks(std::vector<BlockRef> blocks,
       if (r.block->voxels[i].weight != 0) mask[i / 8] |= static_cast<uint8_t>(1u << (i % 8));
     payload.insert(payload.end(), mask.begin(), mask.end());
   }
+}
+
+// appends the distance and weight planes of the blocks' observed voxels
+void write_planes(std::vector<uint8_t>& payload, const std::vector<BlockRef>& blocks,
+                  size_t observed_voxels, int weight_bytes, float mu,
+                  const WeightQuantiser& quantiser) {
   const size_t planes = payload.size();
   payload.resize(planes + observed_voxels * (1 + weight_bytes));
   uint8_t* distances = payload.data() + planes;
@@ -150,11 +133,11 @@ Result<EncodeStats, std::string> encode_blocks(std::vector<BlockRef> blocks,
       ++n;
     }
   }
-  if (payload.size() > kMaxRawBytes)
-    return make_unexpected("patch payload of " + std::to_string(payload.size()) +
-                           " bytes exceeds 512 MiB: split it");
+}
 
-  // compressed, with a content checksum
+// the payload compressed, with a content checksum
+Result<std::vector<uint8_t>, std::string> compress(const std::vector<uint8_t>& payload,
+                                                   const PatchCodecConfig& codec) {
   std::unique_ptr<ZSTD_CCtx, CCtxFree> cctx(ZSTD_createCCtx());
   if (!cctx) return make_unexpected(std::string("zstd: out of memory"));
   ZSTD_CCtx_setParameter(cctx.get(), ZSTD_c_compressionLevel, codec.zstd_level);
@@ -165,12 +148,59 @@ Result<EncodeStats, std::string> encode_blocks(std::vector<BlockRef> blocks,
   if (ZSTD_isError(size) != 0)
     return make_unexpected(std::string("zstd: ") + ZSTD_getErrorName(size));
   data.resize(size);
+  return data;
+}
+
+}  // namespace
+
+double weight_error_bound(const TsdfConfig& config, int weight_bits) {
+  return std::expm1(WeightQuantiser::make(config, weight_bits).s / 2);
+}
+
+std::string PatchCodecConfig::validate() const {
+  if (zstd_level < 1 || zstd_level > ZSTD_maxCLevel())
+    return "zstd_level must be in [1, " + std::to_string(ZSTD_maxCLevel()) + "]";
+  if (weight_bits < 8 || weight_bits > 16) return "weight_bits must be in [8, 16]";
+  if (max_blocks < 1 || max_blocks > (1u << 20)) return "max_blocks must be in [1, 2^20]";
+  return {};
+}
+
+Result<EncodeStats, std::string> encode_blocks(std::vector<BlockRef> blocks,
+                                               const TsdfConfig& config, msg::TsdfPatch& out,
+                                               const PatchCodecConfig& codec) {
+  if (auto problem = config.validate(); !problem.empty()) return make_unexpected(problem);
+  if (auto problem = codec.validate(); !problem.empty()) return make_unexpected(problem);
+  if (!(config.w_th >= kMinWeight && config.max_weight <= kMaxWeight))
+    return make_unexpected(
+        std::string("w_th and max_weight must be in [1e-30, 1e30] to be encoded"));
+  const auto mu = static_cast<float>(config.truncation_m);
+  const WeightQuantiser quantiser = WeightQuantiser::make(config, codec.weight_bits);
+
+  // the observed blocks, sorted, each checked
+  const Result<size_t, std::string> checked = check_blocks(blocks, codec);
+  if (!checked.has_value()) return make_unexpected(checked.error());
+  const size_t observed_voxels = *checked;
+
+  // the payload: header, indices, masks, then the distance and weight planes
+  const int weight_bytes = codec.weight_bits > 8 ? 2 : 1;
+  std::vector<uint8_t> payload;
+  payload.reserve(kHeaderBytes + blocks.size() * (3 + kMaskBytes) +
+                  observed_voxels * (1 + weight_bytes));
+  write_header(payload, blocks, codec, quantiser);
+  write_planes(payload, blocks, observed_voxels, weight_bytes, mu, quantiser);
+  if (payload.size() > kMaxRawBytes)
+    return make_unexpected("patch payload of " + std::to_string(payload.size()) +
+                           " bytes exceeds 512 MiB: split it");
+
+  // compressed, with a content checksum
+  Result<std::vector<uint8_t>, std::string> data = compress(payload, codec);
+  if (!data.has_value()) return make_unexpected(data.error());
 
   out.voxel_size_m = config.voxel_m;
   out.truncation_m = config.truncation_m;
   out.block_count = static_cast<uint32_t>(blocks.size());
   out.raw_bytes = static_cast<uint32_t>(payload.size());
-  out.data = std::move(data);
+  out.data = std::move(data).value();
 
   EncodeStats stats;
   stats.blocks = blocks.size();
