@@ -247,6 +247,7 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   root["executor"]["type"] = "step";
   root["run"] = run_section(s);
   for (size_t i = 0; i < s.robots; ++i) root["robots"].push_back(robot_entry(i, s.kind, starts[i]));
+  root["remap"]["pose"] = "pose_gt";  // every stage's pose: the simulator's ground truth
   for (ComponentPlan& c : architecture_graph(s, *scene, s.robots > 1))
     root["components"].push_back(component_entry(c, s, *profile));
   YAML::Emitter out;

@@ -83,10 +83,14 @@ Result<void, std::string> Component::shutdown() {
 }
 
 std::string Component::resolve(std::string_view port) const {
+  return resolve_in(port, context_.ns);
+}
+
+std::string Component::resolve_in(std::string_view port, std::string_view ns) const {
   std::string name(port);
   if (auto it = context_.remaps.find(name); it != context_.remaps.end()) name = it->second;
   if (!name.empty() && name.front() == '/') return name;
-  return (context_.ns.empty() ? "" : "/" + context_.ns) + "/" + name;
+  return (ns.empty() ? "" : "/" + std::string(ns)) + "/" + name;
 }
 
 std::optional<PortQos> Component::port_qos(std::string_view port) const {

@@ -90,6 +90,10 @@ class Component {
 
   // Resolves a port to its topic: remap if any, then the namespace for relative names.
   std::string resolve(std::string_view port) const;
+  // The same port of a teammate: its remap applied in namespace `ns` ("/<ns>/<topic>"); an
+  // absolute remap stays as it is. A component that reads every robot's pose subscribes
+  // resolve_in("pose", m.ns) for each, so one remap (pose: odom) serves them all.
+  std::string resolve_in(std::string_view port, std::string_view ns) const;
 
  protected:
   // Create endpoints and timers here. Return an error message to fail configuration.

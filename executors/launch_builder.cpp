@@ -66,7 +66,7 @@ void LaunchBuilder::read_settings(const YAML::Node& root, LaunchSettings& s) {
   top.choice("clock", clock, {"wall", "sim"});
   s.clock = clock == "sim" ? ClockType::kSim : ClockType::kWall;
   // the sections below are read on their own; mark them known to the top level
-  for (const char* section : {"executor", "run", "robots", "components", "security"}) {
+  for (const char* section : {"executor", "run", "robots", "components", "security", "remap"}) {
     if (root[section].IsDefined() && root[section].IsScalar())
       errors_.push_back(yaml_location(file_, root[section]) + ": " + section + ": must be a " +
                         (std::string(section) == "robots" || std::string(section) == "components"
@@ -78,8 +78,9 @@ void LaunchBuilder::read_settings(const YAML::Node& root, LaunchSettings& s) {
     if (kv.first.Scalar() != "clock" && !top_known_.count(kv.first.Scalar()))
       errors_.push_back(
           yaml_location(file_, kv.first) + ": " + kv.first.Scalar() +
-          ": unknown key; allowed: clock, executor, run, robots, components, security");
+          ": unknown key; allowed: clock, executor, run, robots, components, security, remap");
   merge(top);
+  read_remap_map(root["remap"], "remap", remaps_);
 
   ParamReader exec = make_param_reader(root["executor"], file_, "executor");
   std::string type = "single_threaded";
@@ -299,21 +300,25 @@ void LaunchBuilder::read_group(const YAML::Node& node, ComponentSpec& spec) {
 }
 
 void LaunchBuilder::read_remaps(const YAML::Node& node, ComponentSpec& spec) {
+  read_remap_map(node, spec.path + ".remap", spec.remaps);
+}
+
+void LaunchBuilder::read_remap_map(const YAML::Node& node, const std::string& path,
+                                   std::map<std::string, std::string>& out) {
   if (!node.IsDefined() || node.IsNull()) return;
   if (!node.IsMap()) {
-    errors_.push_back(yaml_location(file_, node) + ": " + spec.path +
-                      ".remap: must be a mapping port: topic");
+    errors_.push_back(yaml_location(file_, node) + ": " + path + ": must be a mapping port: topic");
     return;
   }
   for (const auto& kv : node) {
     const std::string port = kv.first.Scalar();
     if (!kv.second.IsScalar() || kv.second.Scalar().empty() || kv.second.Scalar() == "/") {
       errors_.push_back(
-          yaml_location(file_, kv.first) + ": " + spec.path + ".remap." + port +
+          yaml_location(file_, kv.first) + ": " + path + "." + port +
           ": remap to nothing; allowed: a topic name, relative (ns/name) or absolute (/name)");
       continue;
     }
-    spec.remaps[port] = kv.second.Scalar();
+    out[port] = kv.second.Scalar();
   }
 }
 

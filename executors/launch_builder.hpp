@@ -53,8 +53,27 @@ class LaunchBuilder {
                      std::initializer_list<std::string_view> allowed);
   void read_group(const YAML::Node& node, ComponentSpec& spec);
   void read_remaps(const YAML::Node& node, ComponentSpec& spec);
+  // A mapping port: topic at `path` ("remap", "components[i].remap") into out.
+  void read_remap_map(const YAML::Node& node, const std::string& path,
+                      std::map<std::string, std::string>& out);
   void read_qos(const YAML::Node& node, ComponentSpec& spec);
+  // An instance made, not yet configured: its spec, and where it runs.
+  struct Pending {
+    const ComponentSpec* spec;
+    std::unique_ptr<Component> component;
+    std::string place;  // the computer it runs on; "" = the world (never charged)
+  };
+
   void compose(Launch& launch);
+  // The robots whose per-robot components this process makes; false (an error) if none.
+  bool own_robots(const LaunchSettings& s, std::vector<RobotSpec>& own);
+  // Creates every instance and the launch's callback groups; parameter errors collected.
+  void create_instances(Launch& launch, const std::vector<RobotSpec>& own,
+                        std::vector<Pending>& created);
+  // Configures every instance, checks its remaps and the graph; errors collected.
+  void configure_instances(Launch& launch, std::vector<Pending>& created);
+  // Makes the launch's executor with the instances' executables; the launch takes the instances.
+  void add_executor(Launch& launch, std::vector<Pending>& created);
 
   std::string file_;
   LaunchOptions options_;
@@ -63,6 +82,9 @@ class LaunchBuilder {
   std::string compute_time_;  // run.compute_time as the file (or --set) gives it; "" unset
   std::vector<RobotSpec> robots_;
   std::vector<ComponentSpec> specs_;
+  // the launch's own remap: every component with the port takes it, unless its own remap
+  // names the port (the idea of ROS 2 launch's SetRemap)
+  std::map<std::string, std::string> remaps_;
 };
 
 }  // namespace scancrew

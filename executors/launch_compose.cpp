@@ -16,19 +16,23 @@ void LaunchBuilder::compose(Launch& launch) {
   else
     launch.clock_ = std::make_shared<WallClock>();
   launch.graph_ = std::make_unique<Graph>(launch.clock_);
-  std::map<std::string, std::shared_ptr<CallbackGroup>> groups;
 
   // create every instance (parameter errors are collected, nothing is configured yet)
-  struct Pending {
-    const ComponentSpec* spec;
-    std::unique_ptr<Component> component;
-    std::string place;  // the computer it runs on; "" = the world (never charged)
-  };
   std::vector<Pending> created;
-  const auto team = std::make_shared<const std::vector<TeamMember>>(robots_);
-  const auto& registry = ComponentRegistry::instance();
+  std::vector<RobotSpec> own;
+  if (!own_robots(s, own)) return;
+  create_instances(launch, own, created);
+  if (!errors_.empty()) return;
+
+  configure_instances(launch, created);
+  if (!errors_.empty()) return;
+
+  add_executor(launch, created);
+}
+
+bool LaunchBuilder::own_robots(const LaunchSettings& s, std::vector<RobotSpec>& own) {
   // a robot process makes the per-robot components of its own robot only
-  std::vector<RobotSpec> own = robots_;
+  own = robots_;
   if (options_.process == "robot") {
     own.clear();
     for (const RobotSpec& r : robots_)
@@ -38,7 +42,7 @@ void LaunchBuilder::compose(Launch& launch) {
       for (const RobotSpec& r : robots_) ids += (ids.empty() ? "" : ", ") + std::to_string(r.id);
       errors_.push_back(file_ + ": --robot " + std::to_string(options_.robot_id) +
                         ": no such robot in this run; its robots: " + ids);
-      return;
+      return false;
     }
   }
   if (!s.station && robots_.size() != 1) {
@@ -46,8 +50,17 @@ void LaunchBuilder::compose(Launch& launch) {
                       ": run.station: false puts the station's components on the one "
                       "robot's computer; this run has " +
                       std::to_string(robots_.size()) + " robots");
-    return;
+    return false;
   }
+  return true;
+}
+
+void LaunchBuilder::create_instances(Launch& launch, const std::vector<RobotSpec>& own,
+                                     std::vector<Pending>& created) {
+  const LaunchSettings& s = launch.settings_;
+  std::map<std::string, std::shared_ptr<CallbackGroup>> groups;
+  const auto team = std::make_shared<const std::vector<TeamMember>>(robots_);
+  const auto& registry = ComponentRegistry::instance();
   for (const ComponentSpec& spec : specs_) {
     const std::vector<RobotSpec> owners = spec.per_robot ? own : std::vector<RobotSpec>{{0, ""}};
     bool params_reported = false;
@@ -58,7 +71,8 @@ void LaunchBuilder::compose(Launch& launch) {
       ctx.name = spec.name;
       ctx.ns = robot.ns;
       ctx.robot_id = robot.id;
-      ctx.remaps = spec.remaps;
+      ctx.remaps = remaps_;
+      for (const auto& [port, topic] : spec.remaps) ctx.remaps[port] = topic;
       ctx.qos = spec.qos;
       const std::string group_key =
           robot.ns + "/" + (spec.group_name.empty() ? spec.name : spec.group_name);
@@ -95,8 +109,9 @@ void LaunchBuilder::compose(Launch& launch) {
     }
   }
   for (auto& [key, group] : groups) launch.groups_.push_back(group);
-  if (!errors_.empty()) return;
+}
 
+void LaunchBuilder::configure_instances(Launch& launch, std::vector<Pending>& created) {
   // configure: endpoints are created, types checked; nothing runs yet
   for (auto& p : created) {
     auto configured = p.component->configure();
@@ -115,8 +130,10 @@ void LaunchBuilder::compose(Launch& launch) {
   std::sort(errors_.begin(), errors_.end());
   errors_.erase(std::unique(errors_.begin(), errors_.end()), errors_.end());
   for (const std::string& e : launch.graph_->check().errors) errors_.push_back(file_ + ": " + e);
-  if (!errors_.empty()) return;
+}
 
+void LaunchBuilder::add_executor(Launch& launch, std::vector<Pending>& created) {
+  LaunchSettings& s = launch.settings_;
   if (s.executor == LaunchSettings::ExecutorType::kStep) {
     // a mission run in one process charges compute unless the file says otherwise
     const bool mission = std::any_of(specs_.begin(), specs_.end(), [](const ComponentSpec& c) {

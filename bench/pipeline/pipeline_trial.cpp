@@ -160,6 +160,7 @@ executor: {type: step}
 run: {duration_s: %.1f, sim_step_s: 0.05, progress_period_s: 1.0}
 robots:
   - {id: 1, namespace: %s, kind: ground, start: [-7.5, -1.8, 0, 0]}
+remap: {pose: pose_gt}
 components:
   - name: sim
     type: team_simulator

@@ -12,7 +12,6 @@ namespace scancrew::depth_mask {
 
 DepthMask::Config DepthMask::read_config(ParamReader& p) {
   Config c;
-  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
   p.optional_list("ground_body_m", c.ground_body_m, 3, {0.01, 20});
   p.optional_list("multirotor_body_m", c.multirotor_body_m, 3, {0.01, 20});
   p.optional("margin_m", c.margin_m, {0, 5});
@@ -24,7 +23,6 @@ DepthMask::DepthMask(ComponentContext context, Config config)
     : Component(std::move(context)), config_(std::move(config)) {}
 
 Result<void, std::string> DepthMask::on_configure() {
-  const char* pose_topic = config_.pose_source == "vio" ? "odom" : "pose_gt";
   for (const TeamMember& m : team()) {
     if (m.id == robot_id()) continue;
     Teammate t;
@@ -36,7 +34,7 @@ Result<void, std::string> DepthMask::on_configure() {
     teammates_.push_back(t);
   }
   for (size_t i = 0; i < teammates_.size(); ++i)
-    create_subscription<msg::Odometry>("/" + teammates_[i].ns + "/" + pose_topic, {.depth = 4},
+    create_subscription<msg::Odometry>(resolve_in("pose", teammates_[i].ns), {.depth = 4},
                                        [this, i](Sample<msg::Odometry>&& pose) {
                                          if (pose->tracking_quality <= 0)
                                            return;  // a lost teammate keeps its last pose

@@ -2,9 +2,9 @@
 
 // DepthMask: blanks the depth pixels where teammates appear (thesis 5.2.2), so robots are
 // not mapped as obstacles. A pixel is blanked (NaN) when its 3D point falls inside a
-// teammate's body box grown by a margin; the teammates' poses come from their pose topics
-// ("/<namespace>/<pose topic>" for every other robot of the launch file), their body sizes
-// from their kind.
+// teammate's body box grown by a margin; the teammates' poses come from their `pose` port
+// (the remap applied in each teammate's namespace: pose: pose_gt gives /<ns>/pose_gt, pose:
+// odom /<ns>/odom, for every other robot of the launch file), their body sizes from their kind.
 //
 // Body boxes, body frame (x forward, y left, z up): a ground robot's spans z from 0 (the
 // floor under its centre) to its height; a multirotor's is centred on its body frame.
@@ -27,7 +27,6 @@ class DepthMask final : public Component {
   static constexpr std::string_view kDescription =
       "blanks depth pixels on teammates (their poses and body sizes are known)";
   struct Config {
-    std::string pose_source = "ground_truth";                    // teammates' pose_gt | odom (vio)
     std::vector<double> ground_body_m = {0.44, 0.40, 0.40};      // length, width, height
     std::vector<double> multirotor_body_m = {0.50, 0.50, 0.20};  // length, width, height
     double margin_m = 0.10;                                      // grows every box side

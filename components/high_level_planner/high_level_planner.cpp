@@ -59,7 +59,6 @@ HighLevelPlanner::Config HighLevelPlanner::read_config(ParamReader& p) {
   Config c;
   p.choice("algorithm", c.algorithm, {"tsga", "dist_tsga", "nnb"});
   p.choice("inter_cluster_distance", c.inter_cluster_distance, {"euclidean", "roadmap"});
-  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
   read_penalties(p, "ground", c.ground);
   read_penalties(p, "multirotor", c.multirotor);
   p.optional("insertion_iterations", c.options.insertion_iterations, {0, 100000});
@@ -122,8 +121,7 @@ Result<void, std::string> HighLevelPlanner::on_configure() {
     members_.push_back(m);
     const std::string ns = "/" + t.ns + "/";
     create_subscription<msg::Odometry>(
-        ns + (config_.pose_source == "vio" ? "odom" : "pose_gt"), {.depth = 1},
-        [this, i](Sample<msg::Odometry>&& s) {
+        resolve_in("pose", t.ns), {.depth = 1}, [this, i](Sample<msg::Odometry>&& s) {
           const msg::Vec3& p = s->T_world_body.position;
           if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
             members_[i].position = vec(p);

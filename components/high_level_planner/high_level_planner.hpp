@@ -14,9 +14,9 @@
 //              same allocation, but it publishes only its robot's sequence;
 //   nnb        Algorithm 4 baseline: each robot's best single cluster (all robots' when
 //              centralized, the own robot's when per robot).
-// The robots' positions come from each team member's pose topic (pose_source ground_truth:
-// /<namespace>/pose_gt, vio: /<namespace>/odom); before the first one, the launch file's start
-// pose. Each member's `/<namespace>/robot_state` (msg::RobotState) is watched too:
+// The robots' positions come from each team member's `pose` port (its remap in the member's
+// namespace: pose: pose_gt gives /<namespace>/pose_gt); before the first one, the launch file's
+// start pose. Each member's `/<namespace>/robot_state` (msg::RobotState) is watched too:
 //   mode kIdle while the planner holds a plan for it: asynchronous reallocation (3.5.1): the
 //     robot gets the clusters no teammate holds (plan_for_idle); centralized tsga only, as
 //     in the thesis; dist_tsga replans the whole allocation instead;
@@ -55,7 +55,7 @@
 //              for, so a team that mixes ground robots and multirotors is refused at
 //              configuration.
 //
-// Parameters: algorithm, inter_cluster_distance (euclidean | roadmap), pose_source,
+// Parameters: algorithm, inter_cluster_distance (euclidean | roadmap),
 // `<type>_lambda_tc_per_m` and `<type>_lambda_ic_per_m` for ground and multirotor,
 // insertion_iterations, final_iterations, seed, allocation_gain (arc: the thesis, default |
 // arrival; PlannerOptions::gain), min_replan_period_s, keep_intra_paths, and
@@ -102,7 +102,6 @@ class HighLevelPlanner final : public Component {
   struct Config {
     std::string algorithm = "tsga";  // tsga | dist_tsga | nnb
     std::string inter_cluster_distance = "euclidean";
-    std::string pose_source = "ground_truth";  // ground_truth (pose_gt) | vio (odom)
     // table 5.3 (real-world ground robots) and table 2.2 (Powerplant UAV, shortest path)
     Penalties ground{.lambda_tc_per_m = 0.5, .lambda_ic_per_m = 0.01};
     Penalties multirotor{.lambda_tc_per_m = 0.3, .lambda_ic_per_m = 0.03};

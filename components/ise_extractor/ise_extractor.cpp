@@ -85,7 +85,6 @@ IseExtractor::Config IseExtractor::read_config(ParamReader& p) {
   p.optional("visit_distance_m", c.visit_distance_m, {0.01, 100});
   p.optional("visit_angle_deg", c.visit_angle_deg, {0.1, 180});
   p.optional("visit_period_s", c.visit_period_s, {0, 1000});
-  p.choice("visit_pose_topic", c.visit_pose_topic, {"pose_gt", "odom"});
   return c;
 }
 
@@ -114,16 +113,15 @@ Result<void, std::string> IseExtractor::on_configure() {
     stays_.resize(team().size());
     for (size_t i = 0; i < team().size(); ++i) {
       if (team()[i].ns.empty()) continue;
-      create_subscription<msg::Odometry>("/" + team()[i].ns + "/" + config_.visit_pose_topic,
-                                         {.depth = 1}, [this, i](Sample<msg::Odometry>&& s) {
-                                           const msg::Pose3& p = s->T_world_body;
-                                           const double yaw = yaw_of(p.orientation);
-                                           if (!std::isfinite(p.position.x) ||
-                                               !std::isfinite(p.position.y) ||
-                                               !std::isfinite(p.position.z) || !std::isfinite(yaw))
-                                             return;  // a bad pose counts no visit
-                                           team_poses_[i] = {true, msg::to_eigen(p.position), yaw};
-                                         });
+      create_subscription<msg::Odometry>(
+          resolve_in("pose", team()[i].ns), {.depth = 1}, [this, i](Sample<msg::Odometry>&& s) {
+            const msg::Pose3& p = s->T_world_body;
+            const double yaw = yaw_of(p.orientation);
+            if (!std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
+                !std::isfinite(p.position.z) || !std::isfinite(yaw))
+              return;  // a bad pose counts no visit
+            team_poses_[i] = {true, msg::to_eigen(p.position), yaw};
+          });
       create_subscription<msg::Odometry>(
           "/" + team()[i].ns + "/skipped_goal", {.depth = 8}, [this](Sample<msg::Odometry>&& s) {
             const msg::Pose3& p = s->T_world_body;

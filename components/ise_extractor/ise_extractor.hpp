@@ -18,16 +18,15 @@
 // Visited and still incomplete (give_up_visits > 0; a deviation from the thesis, docs/ise.md):
 // an ISE that some viewpoint sees while a robot of the team stands at that viewpoint
 // (within visit_distance_m, horizontally for a ground viewpoint, and visit_angle_deg of its
-// yaw; poses from each robot's /<ns>/<visit_pose_topic>) give_up_visits times, and is still
-// an ISE, is given up: C_rem from then on (a corner whose far side no camera can reach stays
-// an ISE for good, and its viewpoint would be visited for ever). A robot's stay at a
-// viewpoint counts a visit on arrival and one more per visit_period_s it stays, so that the
-// rule gives up after the same looks whatever the map's update rate: a station's map
-// updates once per robot's snapshot, and a distributed robot's once more per patch. A
-// viewpoint a robot's low-level planner skipped (/<ns>/skipped_goal) counts one visit too:
-// an ISE that only unreachable viewpoints see is given up after give_up_visits skips.
-// Out-of-range values fail at configuration; the map's W_th and voxel size are checked on
-// the first snapshot.
+// yaw; poses from each robot's `pose` port, its remap in the robot's namespace) give_up_visits
+// times, and is still an ISE, is given up: C_rem from then on (a corner whose far side no camera
+// can reach stays an ISE for good, and its viewpoint would be visited for ever). A robot's stay at
+// a viewpoint counts a visit on arrival and one more per visit_period_s it stays, so that the rule
+// gives up after the same looks whatever the map's update rate: a station's map updates once per
+// robot's snapshot, and a distributed robot's once more per patch. A viewpoint a robot's low-level
+// planner skipped (/<ns>/skipped_goal) counts one visit too: an ISE that only unreachable
+// viewpoints see is given up after give_up_visits skips. Out-of-range values fail at configuration;
+// the map's W_th and voxel size are checked on the first snapshot.
 
 #include <cstdint>
 #include <optional>
@@ -64,7 +63,6 @@ class IseExtractor final : public Component {
     // time it stays (0: every map update). Default: the update period of one robot's own
     // map (snapshot_every 5 frames at 5 Hz)
     double visit_period_s = 1.0;
-    std::string visit_pose_topic = "pose_gt";  // or odom (VIO)
   };
   static Config read_config(ParamReader& p);
 

@@ -25,7 +25,6 @@ bool finite(const msg::Vec3& v) {
 
 LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
   Config c;
-  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
   p.optional("control_period_s", c.control_period_s, {0.001, 10});
   p.optional("traffic_policy", c.traffic_policy);
   p.optional("redundancy_check", c.redundancy_check);
@@ -121,8 +120,7 @@ void LowLevelPlanner::create_ports() {
     current_ises_ = voxel_keys(s->centers_m, voxel);
     have_ises_ = true;
   });
-  create_subscription<msg::Odometry>(config_.pose_source == "vio" ? "odom" : "pose_gt",
-                                     {.depth = 1},
+  create_subscription<msg::Odometry>("pose", {.depth = 1},
                                      [this](Sample<msg::Odometry>&& s) { on_pose(*s); });
 }
 

@@ -13,7 +13,7 @@
 //                                        item 2), taken at once when idle or waiting for it
 //   in   map           msg::MapUpdate   the robot's map (its estimate in distributed mode)
 //   in   ises          msg::IseSet       C, for UtilityCheck
-//   in   pose_gt|odom  msg::Odometry     by pose_source (ground_truth | vio)
+//   in   pose          msg::Odometry     the robot's pose (remap: pose_gt, or odom from vio)
 //   in   /<ns>/robot_state, /<ns>/local_path, /<ns>/tour of every teammate (traffic policy,
 //        redundancy check)
 //   out  local_path    msg::LocalPath    to the tracker (plan_id grows per path)
@@ -35,7 +35,7 @@
 // near, it asks for a new plan. A stale map (kMapStale) waits for the next one. A request
 // unanswered for replan_timeout_s is sent again (the robot_state mode is toggled through kIdle).
 //
-// Parameters: pose_source, control_period_s, traffic_policy, redundancy_check,
+// Parameters: control_period_s, traffic_policy, redundancy_check,
 // max_consecutive_failures, replan_timeout_s, backoff_max_m, backoff_step_m, backoff_min_m,
 // goal_nudge_max_m, path_recheck_horizon_m, stall_timeout_s, stall_min_progress_m,
 // max_detour_factor,
@@ -92,7 +92,6 @@ class LowLevelPlanner final : public Component {
       "follows the tour: LazyPRM* paths to each viewpoint, goal / utility / obstacle checks, "
       "traffic policy, redundancy check, replanning requests (thesis 2.5.3, 3.5.2, 4.5.2)";
   struct Config {
-    std::string pose_source = "ground_truth";  // ground_truth (pose_gt) | vio (odom)
     double control_period_s = 0.1;
     bool traffic_policy = true;
     bool redundancy_check = false;  // distributed teams (Algorithm 6)

@@ -38,7 +38,6 @@ bool same_path(const std::vector<msg::Waypoint>& a, const std::vector<msg::Waypo
 
 PathTracker::Config PathTracker::read_config(ParamReader& p) {
   Config c;
-  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
   p.optional("rate_hz", c.rate_hz, {1, 1000});
   p.optional("look_ahead_m", c.look_ahead.distance_m, {0.05, 20});
   p.optional("search_window_m", c.look_ahead.search_window_m, {0.1, 100});
@@ -79,7 +78,7 @@ PathTracker::Config PathTracker::read_config(ParamReader& p) {
 
 PathTracker::PathTracker(ComponentContext context, Config config)
     : Component(std::move(context)),
-      config_(std::move(config)),
+      config_(config),
       look_ahead_(config_.look_ahead),
       law_(config_.law) {}
 
@@ -94,8 +93,7 @@ Result<void, std::string> PathTracker::on_configure() {
   state_ = create_publisher<msg::RobotState>("tracker_state");
   create_subscription<msg::LocalPath>("local_path", {.depth = 2},
                                       [this](Sample<msg::LocalPath>&& s) { on_path(*s); });
-  create_subscription<msg::Odometry>(config_.pose_source == "vio" ? "odom" : "pose_gt",
-                                     {.depth = 4},
+  create_subscription<msg::Odometry>("pose", {.depth = 4},
                                      [this](Sample<msg::Odometry>&& s) { on_pose(*s); });
   create_subscription<msg::Maneuver>("maneuver", {.depth = 4},
                                      [this](Sample<msg::Maneuver>&& s) { on_maneuver(*s); });

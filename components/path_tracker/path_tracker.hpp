@@ -10,7 +10,7 @@
 //   in   local_path     msg::LocalPath   a new plan_id replaces the path; an older one is
 //                                        stale (ignored, logged once); the same plan_id is
 //                                        a re-send (ignored when unchanged, else replaces)
-//   in   pose_gt | odom msg::Odometry    by pose_source (ground_truth | vio)
+//   in   pose           msg::Odometry    the robot's pose (remap: pose_gt, or odom from vio)
 //   in   maneuver       msg::Maneuver    kStop: zero command now, held until kResume;
 //                                        kStepAside: go to the aside pose, then hold;
 //                                        kResume: back to the path (progress goes on)
@@ -65,8 +65,7 @@ class PathTracker final : public Component {
       "follows the local path (PBVS with ViSP towards a look-ahead pose); obeys stop and "
       "step-aside maneuvers; publishes cmd_vel and tracker_state";
   struct Config {
-    std::string pose_source = "ground_truth";  // ground_truth (pose_gt) | vio (odom)
-    double rate_hz = 20.0;                     // command rate
+    double rate_hz = 20.0;  // command rate
     LookAheadConfig look_ahead;
     TrackingLawConfig law;
     GroundMappingConfig ground;

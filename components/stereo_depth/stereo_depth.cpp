@@ -29,7 +29,6 @@ StereoDepth::Config StereoDepth::read_config(ParamReader& p) {
   p.optional("min_range_m", c.min_range_m, {0.01, 100});
   p.optional("max_range_m", c.max_range_m, {0.02, 1000});
   if (c.max_range_m <= c.min_range_m) p.report("max_range_m", "must be greater than min_range_m");
-  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
   p.optional("max_pending_frames", c.max_pending_frames, {1, 1000});
   p.optional("pose_history", c.pose_history, {1, 100000});
   return c;
@@ -47,8 +46,7 @@ Result<void, std::string> StereoDepth::on_configure() {
   create_subscription<msg::StereoFrame>(
       "stereo", {.depth = config_.max_pending_frames},
       [this](Sample<msg::StereoFrame>&& f) { on_frame(std::move(f)); });
-  create_subscription<msg::Odometry>(config_.pose_source == "vio" ? "odom" : "pose_gt",
-                                     {.depth = 16},
+  create_subscription<msg::Odometry>("pose", {.depth = 16},
                                      [this](Sample<msg::Odometry>&& p) { on_pose(std::move(p)); });
   return {};
 }
@@ -77,11 +75,10 @@ void StereoDepth::on_frame(Sample<msg::StereoFrame>&& frame) {
   if (!valid(*frame)) return;
   if (pending_.size() >= config_.max_pending_frames) {
     if (stats_.no_pose++ == 0)
-      SCANCREW_LOG_WARN(
-          "%s: no pose for frame stamped %lld ns: dropped (is the pose source "
-          "'%s' running?)",
-          qualified_name().c_str(), static_cast<long long>(pending_.front()->header.stamp_ns),
-          config_.pose_source.c_str());
+      SCANCREW_LOG_WARN("%s: no pose for frame stamped %lld ns: dropped (is '%s' published?)",
+                        qualified_name().c_str(),
+                        static_cast<long long>(pending_.front()->header.stamp_ns),
+                        resolve("pose").c_str());
     pending_.pop_front();
   }
   pending_.push_back(std::move(frame));

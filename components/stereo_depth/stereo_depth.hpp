@@ -5,8 +5,8 @@
 // filtered out (uniqueness, speckles, left-right check) or outside the camera range are
 // NaN. Publishes `depth` stamped with the capture time and the camera pose at that time.
 //
-// The pose comes from `pose_gt` (pose_source: ground_truth, the simulator's oracle) or
-// `odom` (pose_source: vio): frames wait for the pose of their stamp (bounded), poses
+// The pose comes from the `pose` port (remap pose: pose_gt, the simulator's oracle, or pose:
+// odom, the vio component's): frames wait for the pose of their stamp (bounded), poses
 // with tracking lost drop their frame. The camera pose is T_world_body · T_body_cam (the
 // rig's extrinsics travel with each StereoFrame).
 
@@ -53,7 +53,6 @@ class StereoDepth final : public Component {
   struct Config {
     SgbmParams sgbm;
     double min_range_m = 0.3, max_range_m = 5.0;  // thesis table 5.3
-    std::string pose_source = "ground_truth";     // ground_truth (pose_gt) | vio (odom)
     uint32_t max_pending_frames = 4;              // frames waiting for their pose
     uint32_t pose_history = 64;                   // poses kept for frames still to come
   };

@@ -50,7 +50,6 @@ TsdfMapper::Config TsdfMapper::read_config(ParamReader& p) {
   p.optional("patch_frames", c.patch_frames, {1, 100000});
   p.optional("patch_distance_m", c.patch_distance_m, {0, 1e6});
   p.optional("snapshot_every", c.snapshot_every, {1, 100000});
-  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
   p.optional("request_delay_s", c.request_delay_s, {0, 3600});
   p.optional("request_retry_s", c.request_retry_s, {0.01, 3600});
   p.optional("compression_level", c.compression_level, {1, 19});
@@ -93,7 +92,6 @@ Result<void, std::string> TsdfMapper::on_configure() {
   reply_ = create_publisher<msg::TsdfPatch>("patch_reply", {.pool_size = 16});
   list_ = create_publisher<msg::PatchList>("patch_list", {.pool_size = 2});
   request_ = create_publisher<msg::PatchRequest>("patch_request", {.pool_size = 2});
-  const char* pose_topic = config_.pose_source == "vio" ? "odom" : "pose_gt";
   for (const TeamMember& m : team()) {
     if (m.id == robot_id()) continue;
     teammates_.push_back({.id = m.id, .ns = m.ns});
@@ -110,7 +108,7 @@ Result<void, std::string> TsdfMapper::on_configure() {
         ns + "patch_request", {.depth = 8},
         [this](Sample<msg::PatchRequest>&& s) { on_request(*s); });
     create_subscription<msg::Odometry>(
-        ns + pose_topic, {.depth = 2}, [this, i](Sample<msg::Odometry>&& s) {
+        resolve_in("pose", teammates_[i].ns), {.depth = 2}, [this, i](Sample<msg::Odometry>&& s) {
           if (s->tracking_quality <= 0) return;
           teammates_[i].position = msg::to_eigen(s->T_world_body.position);
           teammates_[i].has_position = true;

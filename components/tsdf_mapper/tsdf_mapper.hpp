@@ -85,14 +85,13 @@ class TsdfMapper final : public Component {
       "TSDF mapping: depth -> map snapshots; patches shared between robots (distributed)";
   struct Config {
     TsdfConfig tsdf;
-    std::string mode = "single";               // single | centralized | distributed
-    uint32_t patch_frames = 5;                 // depth images per patch (thesis 4.6: 5)
-    double patch_distance_m = 0;               // or this much travel (0: off)
-    uint32_t snapshot_every = 1;               // publish a snapshot every N integrated images
-    std::string pose_source = "ground_truth";  // teammates' positions: pose_gt | odom
-    double request_delay_s = 1.0;              // a listed patch missing this long is requested
-    double request_retry_s = 2.0;              // and requested again this often
-    int compression_level = 3;                 // zstd level of the patch payload
+    std::string mode = "single";   // single | centralized | distributed
+    uint32_t patch_frames = 5;     // depth images per patch (thesis 4.6: 5)
+    double patch_distance_m = 0;   // or this much travel (0: off)
+    uint32_t snapshot_every = 1;   // publish a snapshot every N integrated images
+    double request_delay_s = 1.0;  // a listed patch missing this long is requested
+    double request_retry_s = 2.0;  // and requested again this often
+    int compression_level = 3;     // zstd level of the patch payload
     uint32_t depth_queue_depth = 4;
     // the depth topic, relative: the robot's (single, distributed; a remap works too) or each
     // robot's "/<ns>/<depth_topic>" (centralized, which has no per-robot remap); e.g.

@@ -23,7 +23,6 @@ WaypointDriver::Config WaypointDriver::read_config(ParamReader& p) {
   p.optional("arrive_radius_m", c.arrive_radius_m, {0.01, 100});
   p.optional("rate_hz", c.rate_hz, {0.1, 1000});
   p.optional("stop_after_m", c.stop_after_m, {0, 1e7});
-  p.choice("pose_source", c.pose_source, {"ground_truth", "vio"});
   return c;
 }
 
@@ -34,12 +33,11 @@ Result<void, std::string> WaypointDriver::on_configure() {
   for (const TeamMember& m : team())
     if (m.id == robot_id()) ground_ = m.kind == "ground";
   cmd_ = create_publisher<msg::VelocityCommand>("cmd_vel");
-  create_subscription<msg::Odometry>(config_.pose_source == "vio" ? "odom" : "pose_gt",
-                                     {.depth = 4}, [this](Sample<msg::Odometry>&& s) {
-                                       if (s->tracking_quality <= 0) return;
-                                       pose_ = *s;
-                                       have_pose_ = true;
-                                     });
+  create_subscription<msg::Odometry>("pose", {.depth = 4}, [this](Sample<msg::Odometry>&& s) {
+    if (s->tracking_quality <= 0) return;
+    pose_ = *s;
+    have_pose_ = true;
+  });
   create_timer(std::chrono::nanoseconds(std::llround(1e9 / config_.rate_hz)),
                [this] { on_tick(); });
   return {};

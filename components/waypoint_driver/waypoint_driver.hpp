@@ -34,9 +34,8 @@ class WaypointDriver final : public Component {
     double yaw_gain = 1.5;  // 1/s
     double max_yaw_rate_radps = 0.5;
     double arrive_radius_m = 0.5;
-    double rate_hz = 10.0;                     // command rate
-    double stop_after_m = 0.0;                 // 0: never (a loop goes on until the run ends)
-    std::string pose_source = "ground_truth";  // ground_truth (pose_gt) | vio (odom)
+    double rate_hz = 10.0;      // command rate
+    double stop_after_m = 0.0;  // 0: never (a loop goes on until the run ends)
   };
   static Config read_config(ParamReader& p);
 

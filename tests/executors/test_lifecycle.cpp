@@ -100,6 +100,11 @@ TEST(Lifecycle, TopicsResolveThroughRemapsAndNamespaces) {
   EXPECT_EQ(talker.resolve("out"), "/team/chatter");
   EXPECT_EQ(listener.resolve("in"), "/robot1/in");
   EXPECT_EQ(talker.qualified_name(), "/robot1/talker");
+  // a teammate's port: the remap, in the teammate's namespace; absolute stays
+  Listener remapped(context_for(graph, "remapped", {{"in", "odom"}}), {});
+  EXPECT_EQ(remapped.resolve_in("in", "robot2"), "/robot2/odom");
+  EXPECT_EQ(listener.resolve_in("in", "robot2"), "/robot2/in");
+  EXPECT_EQ(talker.resolve_in("out", "robot2"), "/team/chatter");
 }
 
 }  // namespace

@@ -52,6 +52,7 @@ run: {duration_s: 0.5, sim_step_s: 0.05}
 robots:
   - {id: 1, namespace: r1, kind: ground, start: [-3.0, -2.5, 0, 0]}
   - {id: 2, namespace: r2, kind: ground, start: [-1.0, -2.5, 0, 90]}
+remap: {pose: pose_gt}
 components:
   - name: sim
     type: team_simulator
@@ -148,6 +149,7 @@ run: {duration_s: 0.5, sim_step_s: 0.05}
 robots:
   - {id: 1, namespace: r1, kind: ground, start: [0, 0, 0, 0]}
   - {id: 2, namespace: r2, kind: ground, start: [2, 0, 0, 0]}
+remap: {pose: pose_gt}
 components:
   - {name: feed, type: test_short_depth}
   - {name: mask, type: depth_mask, params: {margin_m: 0.1}}

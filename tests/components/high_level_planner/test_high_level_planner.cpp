@@ -182,6 +182,7 @@ run: {duration_s: )" +
 robots:)" +
          robots +
          R"(
+remap: {pose: pose_gt}
 components:
   - {name: feeder, type: test_hlp_feeder, per_robot: false}
   - )" + planner +

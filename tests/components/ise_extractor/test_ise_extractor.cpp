@@ -129,6 +129,7 @@ executor: {type: step}
 run: {duration_s: 8.0, sim_step_s: 0.05}
 robots:
   - {id: 1, namespace: r1, kind: multirotor, start: [2.05, 0.05, 0.05, 180]}
+remap: {pose: pose_gt}
 components:
   - {name: feed, type: test_room_feeder, params: {map_period_s: )" +
       std::to_string(map_period_s) + ", blink_period_s: " + std::to_string(blink_period_s) +
@@ -211,6 +212,7 @@ executor: {type: step}
 run: {duration_s: 1.0, sim_step_s: 0.05}
 robots:
   - {id: 1, namespace: r1, kind: multirotor, start: [0, 0, 1, 0]}
+remap: {pose: pose_gt}
 components:
   - {name: ise, type: ise_extractor, params: {give_up_visits: 3, visit_period_s: -1}}
 )";

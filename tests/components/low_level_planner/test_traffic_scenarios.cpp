@@ -380,7 +380,8 @@ std::string launch_text(const std::string& scene, const std::vector<RobotSetup>&
   }
   // the parameters of launch_cfg/explore_arena_team.yaml (table 5.3); the depth mask keeps
   // teammates out of the maps (thesis 5.2.2)
-  return text + R"(components:
+  return text + R"(remap: {pose: pose_gt}
+components:
   - name: sim
     type: team_simulator
     per_robot: false
@@ -388,7 +389,7 @@ std::string launch_text(const std::string& scene, const std::vector<RobotSetup>&
          scene + R"(, seed: 1, publish_stereo: false, ground_camera_rate_hz: 5}
   - name: mask
     type: depth_mask
-    params: {pose_source: ground_truth, margin_m: 0.1}
+    params: {margin_m: 0.1}
   - name: mapper
     type: tsdf_mapper
     remap: {depth: depth_masked}
@@ -400,7 +401,7 @@ std::string launch_text(const std::string& scene, const std::vector<RobotSetup>&
          low_level_with_defaults(low_level_params) + R"(}
   - name: tracker
     type: path_tracker
-    params: {pose_source: ground_truth, ground_max_speed_mps: 0.5}
+    params: {ground_max_speed_mps: 0.5}
   - {name: log, type: test_robot_log}
   - {name: tours, type: test_tour_feeder, per_robot: false, params: {tours: [)" +
          tours + R"(]}}

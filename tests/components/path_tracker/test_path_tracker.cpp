@@ -139,7 +139,7 @@ std::string list(const std::vector<Waypoint4>& w) {
 
 std::string launch_text(const std::string& kind, const Waypoint4& start, double duration_s,
                         const std::string& player, const std::string& tracker,
-                        const std::string& injector) {
+                        const std::string& injector, const std::string& pose = "pose_gt") {
   return R"(
 clock: sim
 executor: {type: step}
@@ -150,6 +150,7 @@ robots:
          kind + ", start: [" + std::to_string(start.x) + ", " + std::to_string(start.y) + ", " +
          std::to_string(start.z) + ", " + std::to_string(start.yaw_deg) +
          R"(]}
+remap: {pose: pose_gt}
 components:
   - name: sim
     type: team_simulator
@@ -158,8 +159,8 @@ components:
          R"(/launch_cfg/scenes/test_arena.yaml, publish_stereo: false, publish_depth: false}
   - {name: player, type: path_player, params: )" +
          player + R"(}
-  - {name: tracker, type: path_tracker, params: )" +
-         tracker + R"(}
+  - {name: tracker, type: path_tracker, remap: {pose: )" +
+         pose + "}, params: " + tracker + R"(}
   - {name: log, type: test_tracker_log}
   - {name: inject, type: test_tracker_injector, params: )" +
          injector + R"(}
@@ -472,7 +473,7 @@ TEST(PathTracker, IgnoresAStalePlanAndStopsOnAnEmptyPath) {
 TEST(PathTracker, HoldsStillOnNanPoses) {
   const std::vector<Waypoint4> path = {{-3, -2, 0, 0}, {3, -2, 0, 0}};
   TrackerRun r = run(launch_text("ground", {-3, -2, 0, 0}, 3.0, "{waypoints: " + list(path) + "}",
-                                 "{pose_source: vio}", "{nan_odom: true}"));
+                                 "{}", "{nan_odom: true}", "odom"));
   ASSERT_NE(r.tracker, nullptr);
   EXPECT_EQ(r.tracker->mode(), msg::RobotState::Mode::kLost);
   ASSERT_FALSE(r.log->commands.empty());
@@ -489,17 +490,16 @@ TEST(PathTracker, HoldsStillOnNanPoses) {
 TEST(PathTracker, AGroundRobotWhoseOdometryLostTrackTurnsOnTheSpotWhenAsked) {
   const std::vector<Waypoint4> path = {{-3, -2, 0, 0}, {3, -2, 0, 0}};
   const std::string player = "{waypoints: " + list(path) + "}";
-  TrackerRun held = run(launch_text("ground", {-3, -2, 0, 0}, 3.0, player, "{pose_source: vio}",
-                                    "{lost_odom: true}"));
+  TrackerRun held =
+      run(launch_text("ground", {-3, -2, 0, 0}, 3.0, player, "{}", "{lost_odom: true}", "odom"));
   ASSERT_NE(held.tracker, nullptr);
   EXPECT_EQ(held.tracker->mode(), msg::RobotState::Mode::kLost);
   ASSERT_FALSE(held.log->commands.empty());
   for (const msg::VelocityCommand& c : held.log->commands) EXPECT_EQ(c.yaw_rate_radps, 0.0);
 
-  TrackerRun turning =
-      run(launch_text("ground", {-3, -2, 0, 0}, 3.0, player,
-                      "{pose_source: vio, lost_turn_rate_radps: 0.3, lost_turn_after_s: 1.0}",
-                      "{lost_odom: true}"));
+  TrackerRun turning = run(launch_text("ground", {-3, -2, 0, 0}, 3.0, player,
+                                       "{lost_turn_rate_radps: 0.3, lost_turn_after_s: 1.0}",
+                                       "{lost_odom: true}", "odom"));
   ASSERT_NE(turning.tracker, nullptr);
   EXPECT_EQ(turning.tracker->mode(), msg::RobotState::Mode::kLost);
   ASSERT_FALSE(turning.log->commands.empty());

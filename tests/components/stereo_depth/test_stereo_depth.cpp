@@ -108,6 +108,7 @@ executor: {type: step}
 run: {duration_s: 2.0, sim_step_s: 0.05}
 robots:
   - {id: 1, namespace: r1, kind: ground, start: [-3.0, -2.5, 0, 30]}
+remap: {pose: pose_gt}
 components:
   - name: sim
     type: team_simulator
@@ -117,7 +118,7 @@ components:
       publish_depth: false
       publish_depth_gt: true
       ground_camera_rate_hz: 5
-  - {name: stereo, type: stereo_depth, params: {pose_source: ground_truth}}
+  - {name: stereo, type: stereo_depth, params: {}}
   - {name: pairs, type: test_depth_pairs}
 )",
                                     "stereo.yaml");
@@ -160,6 +161,7 @@ clock: sim
 executor: {type: step}
 run: {duration_s: 1.05, sim_step_s: 0.05}
 robots: [{id: 1, namespace: r1}]
+remap: {pose: pose_gt}
 components:
   - {name: feeder, type: test_bad_frame_feeder}
   - {name: stereo, type: stereo_depth, params: {num_disparities: 16, max_pending_frames: 2}}
@@ -193,8 +195,9 @@ TEST(StereoDepth, BadParametersAreErrors) {
 clock: sim
 executor: {type: step}
 robots: [{id: 1, namespace: r1}]
+remap: {pose: pose_gt}
 components:
-  - {name: stereo, type: stereo_depth, params: {num_disparities: 50, block_size: 4, min_range_m: 3, max_range_m: 2, pose_source: lidar}}
+  - {name: stereo, type: stereo_depth, params: {num_disparities: 50, block_size: 4, min_range_m: 3, max_range_m: 2, pose_source: vio}}
 )",
                                     "bad_params.yaml");
   ASSERT_FALSE(launch);
@@ -203,7 +206,8 @@ components:
   EXPECT_NE(all.find("num_disparities: must be a multiple of 16"), std::string::npos) << all;
   EXPECT_NE(all.find("block_size: must be odd"), std::string::npos) << all;
   EXPECT_NE(all.find("max_range_m: must be greater than min_range_m"), std::string::npos) << all;
-  EXPECT_NE(all.find("pose_source"), std::string::npos) << all;
+  // the pose comes by remap now: the old key is refused by name
+  EXPECT_NE(all.find("pose_source: unknown parameter"), std::string::npos) << all;
 }
 
 }  // namespace

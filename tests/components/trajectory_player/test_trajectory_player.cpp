@@ -77,6 +77,7 @@ executor: {type: step}
 run: {duration_s: 16.0, sim_step_s: 0.05}
 robots:
   - {id: 1, namespace: r1, kind: multirotor, start: [-2.5, -2.0, 1.0, 0]}
+remap: {pose: pose_gt}
 components:
   - name: sim
     type: team_simulator
@@ -85,7 +86,7 @@ components:
          R"(/launch_cfg/scenes/test_arena.yaml, publish_stereo: false, publish_depth: false}
   - {name: player, type: trajectory_player, params: {paths_csv: )" +
          csv + R"(}}
-  - {name: tracker, type: path_tracker, params: {pose_source: ground_truth}}
+  - {name: tracker, type: path_tracker, params: {}}
   - {name: log, type: test_trajectory_pose_log, per_robot: false}
 )";
 }

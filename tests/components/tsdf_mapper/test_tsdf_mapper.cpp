@@ -85,6 +85,7 @@ run: {duration_s: )" +
          std::to_string(duration_s) + R"(, sim_step_s: 0.05}
 robots:)" +
          robots + R"(
+remap: {pose: pose_gt}
 components:
   - name: sim
     type: team_simulator
@@ -365,6 +366,7 @@ robots:
   - {id: 1, namespace: r1, kind: ground, start: [10, 0, 0, 0]}
   - {id: 2, namespace: r2, kind: ground, start: [0, 0, 0, 0]}
   - {id: 3, namespace: r3, kind: ground, start: [9, 0, 0, 0]}
+remap: {pose: pose_gt}
 components:
   - {name: script, type: test_patch_holder_script, per_robot: false, process: robot}
   - name: mapper
@@ -452,6 +454,7 @@ run: {duration_s: 2.0, sim_step_s: 0.05}
 robots:
   - {id: 2, namespace: r2, kind: ground, start: [0, 0, 0, 0]}
   - {id: 3, namespace: r3, kind: ground, start: [1, 0, 0, 0]}
+remap: {pose: pose_gt}
 components:
   - {name: script, type: test_patch_restart_script, per_robot: false, process: robot}
   - name: mapper

@@ -46,6 +46,7 @@ robots:
   - {id: 1, namespace: r1, kind: )" +
          kind +
          R"(, start: [-2.0, -2.0, 1.0, 0]}
+remap: {pose: pose_gt}
 components:
   - name: sim
     type: team_simulator
