@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 [ -f build/release/compile_commands.json ] || ./scripts/build.sh release
 mapfile -t files < <(git ls-files 'core/*.cpp' 'executors/*.cpp' 'components/*.cpp' 'cli/*.cpp' 'sim/*.cpp' 'eval/*.cpp' 'report/*.cpp' 'scenegen/*.cpp' \
-  'bench/commands.cpp' 'bench/sim/*.cpp' 'bench/perception/*.cpp' 'bench/tsdf/*.cpp' 'bench/ise/*.cpp' 'bench/tsp/*.cpp' ':!bench/tsdf/open3d_peer.cpp')
+  'bench/commands.cpp' 'bench/common/*.cpp' 'bench/sim/*.cpp' 'bench/perception/*.cpp' 'bench/tsdf/*.cpp' 'bench/ise/*.cpp' 'bench/tsp/*.cpp' ':!bench/tsdf/open3d_peer.cpp')
 out=$(mktemp)
 # one clang-tidy per core, 8 files each (2 cores: 8.2 min; one process took 17.8 of CI's 47.6 min);
 # xargs fails when any of them does

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "bench/bench_stats.hpp"
-#include "bench/ise/flight_sequence.hpp"
-#include "bench/tsdf/depth_sequence.hpp"
+#include "bench/common/report.hpp"
+#include "bench/ise/bench_maps.hpp"
 #include "core/ise/gain.hpp"
 #include "core/ise/ise_pipeline.hpp"
 #include "core/tsdf/integrator.hpp"
@@ -42,10 +42,7 @@ struct Case {
 Case parking_lot_case() {
   Case c;
   c.scene = "parking_lot";
-  c.tsdf.voxel_m = 0.2;
-  c.tsdf.truncation_m = 3 * c.tsdf.voxel_m;
-  c.tsdf.min_range_m = 0.3;
-  c.tsdf.max_range_m = 5.0;
+  c.tsdf = parking_lot_tsdf();
   ise::RobotTypeSpec ground;
   ground.type = ise::RobotKind::kGround;
   ground.delta_pose_m = 1.3;
@@ -63,10 +60,7 @@ Case parking_lot_case() {
 Case powerplant_case() {
   Case c;
   c.scene = "powerplant";
-  c.tsdf.voxel_m = 0.3;
-  c.tsdf.truncation_m = 3 * c.tsdf.voxel_m;
-  c.tsdf.min_range_m = 1.6;
-  c.tsdf.max_range_m = 8.0;
+  c.tsdf = powerplant_tsdf();
   ise::RobotTypeSpec uav;
   uav.type = ise::RobotKind::kMultirotor;
   uav.delta_pose_m = 4.7;
@@ -287,17 +281,9 @@ bool wanted(const IseBenchOptions& o, const std::string& scene) {
 // sequence in `sequence`; false (after a message) when rendering or an update fails.
 bool feed_parking_lot(const sim::SceneSpec& scene, const Case& c, int frames, uint64_t seed,
                       Incremental& run, Json& sequence) {
-  // the TSDF bench's loop, a frame every 0.4 s (0.2 m) rather than its 1.5 s
-  auto seq = render_depth_sequence(scene, {.width = 320,
-                                           .height = 256,
-                                           .frames = frames,
-                                           .frame_period_s = 0.4,
-                                           .min_range_m = c.tsdf.min_range_m,
-                                           .max_range_m = c.tsdf.max_range_m,
-                                           .seed = seed});
+  const auto seq = render_parking_lot(scene, c.scene, c.tsdf, frames, seed);
   if (!seq) {
-    std::fprintf(stderr, "bench ise: rendering %s failed: %s\n", c.scene.c_str(),
-                 seq.error().c_str());
+    std::fprintf(stderr, "bench ise: %s\n", seq.error().c_str());
     return false;
   }
   sequence.update({{"width", seq->intrinsics.width},
@@ -308,11 +294,10 @@ bool feed_parking_lot(const sim::SceneSpec& scene, const Case& c, int frames, ui
                    {"render_wall_s", seq->wall_s}});
   std::fprintf(stderr, "%s voxel %.1f m: %zu updates\n", c.scene.c_str(), c.tsdf.voxel_m,
                seq->depth_m.size());
-  for (size_t i = 0; i < seq->depth_m.size(); ++i)
-    if (auto r = run.add(depth_frame(seq->depth_m[i], seq->intrinsics, seq->T_world_cam[i])); !r) {
-      std::fprintf(stderr, "bench ise: %s\n", r.error().c_str());
-      return false;
-    }
+  if (auto fed = feed_sequence(*seq, [&](const tsdf::DepthFrame& f) { return run.add(f); }); !fed) {
+    std::fprintf(stderr, "bench ise: %s\n", fed.error().c_str());
+    return false;
+  }
   return true;
 }
 
@@ -321,20 +306,10 @@ bool feed_parking_lot(const sim::SceneSpec& scene, const Case& c, int frames, ui
 bool feed_powerplant(const sim::SceneSpec& scene, const Case& c, const IseBenchOptions& o,
                      int frames, Incremental& run, Json& sequence) {
   // integrated and updated as the frames come (a dense lap is too many frames to keep)
-  FlightSequenceOptions flight;
-  flight.frames = frames;
-  if (o.quick) {  // the first tenth of the lap at the same density; f = 188 px
-    flight.lap_fraction = 0.1;
-    flight.width = 376;
-    flight.height = 217;
-  }
-  flight.min_range_m = c.tsdf.min_range_m;
-  flight.max_range_m = c.tsdf.max_range_m;
-  flight.seed = o.seed;
+  const FlightSequenceOptions flight = powerplant_flight(c.tsdf, frames, o.quick, o.seed);
   std::fprintf(stderr, "%s voxel %.1f m: an update per frame\n", c.scene.c_str(), c.tsdf.voxel_m);
-  const auto lap = fly_lap(scene, flight, [&](const msg::DepthImage& d) {
-    return run.add(depth_frame(d.depth_m, d.intrinsics, d.T_world_cam));
-  });
+  const auto lap =
+      fly_lap_into(scene, flight, [&](const tsdf::DepthFrame& f) { return run.add(f); });
   if (!lap) {
     std::fprintf(stderr, "bench ise: %s: %s\n", c.scene.c_str(), lap.error().c_str());
     return false;
@@ -403,11 +378,8 @@ int run_ise_bench(const IseBenchOptions& o) {
   for (const Case& c : {parking_lot_case(), powerplant_case()}) {
     if (!wanted(o, c.scene)) continue;
     const bool parking = c.scene == "parking_lot";
-    auto scene = sim::load_scene(parking ? o.parking_lot_path : o.powerplant_path);
-    if (!scene) {
-      for (const auto& e : scene.error()) std::fprintf(stderr, "%s\n", e.c_str());
-      return 2;
-    }
+    const auto scene = load_scene_or_report(parking ? o.parking_lot_path : o.powerplant_path);
+    if (!scene) return 2;
     auto pipeline = ise::IsePipeline::create(c.ise, c.tsdf.w_th, c.tsdf.voxel_m);
     if (!pipeline) {
       std::fprintf(stderr, "bench ise: %s: %s\n", c.scene.c_str(), pipeline.error().c_str());
@@ -422,13 +394,7 @@ int run_ise_bench(const IseBenchOptions& o) {
     out["sequences"].push_back(sequence);
     if (!add_result(c, run, repeats, warmup, out)) ++failures;
   }
-  out["load_average_1min"].push_back(load_average());
-  add_targets(out);
-  if (o.json)
-    std::printf("%s\n", out.dump().c_str());
-  else
-    print_table(out);
-  return failures == 0 ? 0 : 1;
+  return finish_report(out, o.json, failures, add_targets, print_table);
 }
 
 }  // namespace scancrew::bench

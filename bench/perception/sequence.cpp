@@ -1,8 +1,8 @@
 #include "bench/perception/sequence.hpp"
 
-#include <cmath>
 #include <cstdio>
 
+#include "bench/common/parking_lot_loop.hpp"
 #include "components/recorder/recorder.hpp"
 #include "components/waypoint_driver/waypoint_driver.hpp"
 #include "executors/launch.hpp"
@@ -11,36 +11,12 @@ namespace scancrew::bench {
 
 namespace {
 
-// A loop around the three pillars (37.2 m): 1.8 m either side of them, 3 m clear of the
-// end walls, every obstacle of the scene at least 0.9 m from the path.
-constexpr const char* kLoop = "[7.5, -1.8, 0, 7.5, 1.8, 0, -7.5, 1.8, 0, -7.5, -1.8, 0]";
-
 std::string launch_text(const SequenceOptions& o) {
-  // square pixels at 90 degrees horizontally
-  const double fov_v_deg = 2.0 * std::atan(static_cast<double>(o.height) / o.width) * 180.0 / M_PI;
   const double speed = 0.5;  // m/s, thesis 5.3
   // an upper bound on the time: the driver slows in the turns
   const double duration = 1.5 * o.distance_m / speed + 10.0;
-  char text[2048];
-  std::snprintf(text, sizeof text, R"(
-clock: sim
-executor: {type: step}
-run: {duration_s: %.1f, sim_step_s: 0.05, progress_period_s: 1.0}
-robots:
-  - {id: 1, namespace: r1, kind: ground, start: [-7.5, -1.8, 0, 0]}
-remap: {pose: pose_gt}
-components:
-  - name: sim
-    type: team_simulator
-    per_robot: false
-    params:
-      scene: %s
-      seed: %llu
-      publish_depth: false
-      publish_depth_gt: true
-      ground_camera_width: %u
-      ground_camera_height: %u
-      ground_camera_fov_v_deg: %.6f
+  char rest[2048];
+  std::snprintf(rest, sizeof rest, R"(      publish_depth_gt: true
       ground_camera_rate_hz: 10
       imu_rate_hz: 100
   - name: driver
@@ -50,9 +26,8 @@ components:
     type: recorder
     params: {path: %s, topics: [stereo, imu, pose_gt, depth_gt], queue_depth: 256}
 )",
-                duration, o.scene_path.c_str(), static_cast<unsigned long long>(o.seed), o.width,
-                o.height, fov_v_deg, kLoop, speed, o.distance_m, o.out_path.c_str());
-  return text;
+                kParkingLotLoop, speed, o.distance_m, o.out_path.c_str());
+  return parking_lot_loop_launch(duration, "r1", o.scene_path, o.seed, o.width, o.height) + rest;
 }
 
 }  // namespace

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <string_view>
@@ -15,6 +14,7 @@
 #include <utility>
 
 #include "bench/bench_stats.hpp"
+#include "bench/common/parking_lot_loop.hpp"
 #include "components/stereo_depth/stereo_depth.hpp"
 #include "components/tsdf_mapper/tsdf_mapper.hpp"
 #include "executors/launch.hpp"
@@ -24,9 +24,7 @@ namespace scancrew::bench {
 
 namespace {
 
-constexpr const char* kNs = "r1";  // the robot of launch_cfg/bench/pipeline.yaml
-// A loop around the parking lot's pillars (bench/perception/sequence.cpp's), from its start.
-constexpr const char* kLoop = "[7.5, -1.8, 0, 7.5, 1.8, 0, -7.5, 1.8, 0, -7.5, -1.8, 0]";
+constexpr const char* kNs = "r1";           // the robot of launch_cfg/bench/pipeline.yaml
 constexpr double kSpeedMps = 0.5;           // thesis 5.3
 constexpr double kDrainPollS = 0.3;         // the graph is drained when nothing moved this long
 constexpr double kDrainTimeoutS = 30.0;     // after the last pair
@@ -61,11 +59,6 @@ std::string join_errors(const std::vector<std::string>& errors) {
   std::string all;
   for (const std::string& e : errors) all += (all.empty() ? "" : "; ") + e;
   return all;
-}
-
-double fov_v_deg(const ImageSize& s) {
-  // square pixels at 90 degrees horizontally
-  return 2.0 * std::atan(static_cast<double>(s.height) / s.width) * 180.0 / M_PI;
 }
 
 const TopicStats* find_stats(const std::vector<TopicStats>& all, const std::string& name) {
@@ -152,27 +145,8 @@ Result<std::vector<FrameCapture::Pair>, std::string> capture(const PipelineBench
                                                              const ImageSize& size,
                                                              uint32_t frames) {
   const double duration = frames / o.nominal_rate_hz + 10.0;
-  char text[2048];
-  const int length = std::snprintf(
-      text, sizeof text, R"(
-clock: sim
-executor: {type: step}
-run: {duration_s: %.1f, sim_step_s: 0.05, progress_period_s: 1.0}
-robots:
-  - {id: 1, namespace: %s, kind: ground, start: [-7.5, -1.8, 0, 0]}
-remap: {pose: pose_gt}
-components:
-  - name: sim
-    type: team_simulator
-    per_robot: false
-    params:
-      scene: %s
-      seed: %llu
-      publish_depth: false
-      ground_camera_width: %u
-      ground_camera_height: %u
-      ground_camera_fov_v_deg: %.6f
-      ground_camera_rate_hz: %.6f
+  char rest[512];
+  std::snprintf(rest, sizeof rest, R"(      ground_camera_rate_hz: %.6f
   - name: driver
     type: waypoint_driver
     params: {waypoints_m: %s, loop: true, speed_mps: %.2f}
@@ -181,10 +155,9 @@ components:
     per_robot: false
     params: {robot_ns: %s, frames: %u}
 )",
-      duration, kNs, o.scene_path.c_str(), static_cast<unsigned long long>(o.seed), size.width,
-      size.height, fov_v_deg(size), o.nominal_rate_hz, kLoop, kSpeedMps, kNs, frames);
-  if (length < 0 || static_cast<size_t>(length) >= sizeof text)
-    return make_unexpected("the scene path is too long: " + o.scene_path);
+                o.nominal_rate_hz, kParkingLotLoop, kSpeedMps, kNs, frames);
+  const std::string text =
+      parking_lot_loop_launch(duration, kNs, o.scene_path, o.seed, size.width, size.height) + rest;
   auto made = Launch::from_string(text, "bench_pipeline_capture.yaml");
   if (!made) return make_unexpected(join_errors(made.error()));
   Launch& launch = **made;
@@ -197,6 +170,54 @@ components:
                            std::to_string(frames) + " stereo pairs");
   return cap->take_pairs();
 }
+
+namespace {
+
+// The trial's counts and each stage's callback and latency figures, from the trace, the
+// graph's topic counters and what the probe received (fed: each pair's capture stamp).
+void add_figures(Trial& t, const Tracer& tracer, Graph& graph, const PipelineProbe& probe,
+                 const tsdf_mapper::TsdfMapper& mapper, const std::vector<StampTime>& fed) {
+  t.integrated = mapper.stats().integrated;
+  t.dropped = t.pairs - std::min(t.pairs, t.integrated);
+  t.snapshots = probe.maps().size();
+  t.ise_runs = probe.clusters().size();
+  t.plans = probe.plans().size();
+  for (const TopicStats& s : graph.stats()) {
+    if (s.name == topic_of("stereo")) t.stereo_queue_drops = s.dropped;
+    if (s.name == topic_of("depth")) t.depth_queue_drops = s.dropped;
+  }
+
+  const auto capture_at = by_stamp(fed);
+  const auto depth_at = by_stamp(probe.depth());
+  const auto map_at = by_stamp(probe.maps());
+  const auto clusters_at = by_stamp(probe.clusters());
+  const auto stage = [&](std::string name, const std::string& component, const std::string& input,
+                         std::string per, const std::vector<StampTime>& out,
+                         const std::unordered_map<int64_t, int64_t>& in) {
+    return Stage{.name = std::move(name),
+                 .component = component,
+                 .input = input,
+                 .per = std::move(per),
+                 .callback_ms = figures(callback_ms(tracer, component, input)),
+                 .from_input_ms = figures(latencies_ms(out, in)),
+                 .from_capture_ms = figures(latencies_ms(out, capture_at))};
+  };
+  // the mapper integrates every depth image and publishes every snapshot_every-th: its
+  // callback figures are per image, its latencies per snapshot
+  t.stages.push_back(stage("stereo_depth", traced("stereo"), topic_of("stereo"), "pair",
+                           probe.depth(), capture_at));
+  t.stages.back().callback_ms =
+      figures(longest_callbacks_ms(tracer, traced("stereo"), probe.depth().size()));
+  t.stages.push_back(stage("tsdf_mapper", traced("mapper"), topic_of("depth"), "snapshot",
+                           probe.maps(), depth_at));
+  t.stages.push_back(
+      stage("ise_extractor", traced("ise"), topic_of("map"), "ISE run", probe.clusters(), map_at));
+  t.stages.push_back(stage("high_level_planner", "planner", topic_of("clusters"), "plan",
+                           probe.plans(), clusters_at));
+  t.end_to_end_ms = t.stages.back().from_capture_ms;
+}
+
+}  // namespace
 
 Result<Trial, std::string> run_trial(const PipelineBenchOptions& o, const ImageSize& size,
                                      std::span<const FrameCapture::Pair> pairs, double rate_hz) {
@@ -276,45 +297,7 @@ Result<Trial, std::string> run_trial(const PipelineBenchOptions& o, const ImageS
   t.wall_s = seconds_between(start, Clock::now());
   if (!feed_error.empty()) return make_unexpected(feed_error);
 
-  const Tracer& tracer = *launch.tracer();
-  t.integrated = mapper->stats().integrated;
-  t.dropped = t.pairs - std::min(t.pairs, t.integrated);
-  t.snapshots = probe->maps().size();
-  t.ise_runs = probe->clusters().size();
-  t.plans = probe->plans().size();
-  for (const TopicStats& s : graph.stats()) {
-    if (s.name == topic_of("stereo")) t.stereo_queue_drops = s.dropped;
-    if (s.name == topic_of("depth")) t.depth_queue_drops = s.dropped;
-  }
-
-  const auto capture_at = by_stamp(fed);
-  const auto depth_at = by_stamp(probe->depth());
-  const auto map_at = by_stamp(probe->maps());
-  const auto clusters_at = by_stamp(probe->clusters());
-  const auto stage = [&](std::string name, const std::string& component, const std::string& input,
-                         std::string per, const std::vector<StampTime>& out,
-                         const std::unordered_map<int64_t, int64_t>& in) {
-    return Stage{.name = std::move(name),
-                 .component = component,
-                 .input = input,
-                 .per = std::move(per),
-                 .callback_ms = figures(callback_ms(tracer, component, input)),
-                 .from_input_ms = figures(latencies_ms(out, in)),
-                 .from_capture_ms = figures(latencies_ms(out, capture_at))};
-  };
-  // the mapper integrates every depth image and publishes every snapshot_every-th: its
-  // callback figures are per image, its latencies per snapshot
-  t.stages.push_back(stage("stereo_depth", traced("stereo"), topic_of("stereo"), "pair",
-                           probe->depth(), capture_at));
-  t.stages.back().callback_ms =
-      figures(longest_callbacks_ms(tracer, traced("stereo"), probe->depth().size()));
-  t.stages.push_back(stage("tsdf_mapper", traced("mapper"), topic_of("depth"), "snapshot",
-                           probe->maps(), depth_at));
-  t.stages.push_back(
-      stage("ise_extractor", traced("ise"), topic_of("map"), "ISE run", probe->clusters(), map_at));
-  t.stages.push_back(stage("high_level_planner", "planner", topic_of("clusters"), "plan",
-                           probe->plans(), clusters_at));
-  t.end_to_end_ms = t.stages.back().from_capture_ms;
+  add_figures(t, *launch.tracer(), graph, *probe, *mapper, fed);
   return t;
 }
 

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "bench/bench_stats.hpp"
-#include "bench/ise/flight_sequence.hpp"
+#include "bench/common/report.hpp"
+#include "bench/ise/bench_maps.hpp"
 #include "bench/planner/query_endpoints.hpp"
-#include "bench/tsdf/depth_sequence.hpp"
 #include "core/motion/motion_planner.hpp"
 #include "core/motion/obstacle_geometry.hpp"
 #include "core/tsdf/integrator.hpp"
@@ -48,10 +48,7 @@ struct Case {
 Case parking_lot_case(uint64_t seed) {
   Case c;
   c.scene = "parking_lot";
-  c.tsdf.voxel_m = 0.2;
-  c.tsdf.truncation_m = 3 * c.tsdf.voxel_m;
-  c.tsdf.min_range_m = 0.3;
-  c.tsdf.max_range_m = 5.0;
+  c.tsdf = parking_lot_tsdf();
   c.planner.robot_kind = robot::RobotKind::kGround;  // table 5.3 body, the defaults
   c.planner.body_margin_m = 0.5 * c.tsdf.voxel_m;
   c.planner.unknown_is_occupied = true;
@@ -64,10 +61,7 @@ Case parking_lot_case(uint64_t seed) {
 Case powerplant_case(uint64_t seed) {
   Case c;
   c.scene = "powerplant";
-  c.tsdf.voxel_m = 0.3;
-  c.tsdf.truncation_m = 3 * c.tsdf.voxel_m;
-  c.tsdf.min_range_m = 1.6;
-  c.tsdf.max_range_m = 8.0;
+  c.tsdf = powerplant_tsdf();
   c.planner.robot_kind = robot::RobotKind::kMultirotor;  // table 2.1: 1 m sphere
   c.planner.body_margin_m = 0.5 * c.tsdf.voxel_m;
   // the lap's map has no connected free space for the 1 m sphere when unknown space
@@ -339,23 +333,15 @@ bool wanted(const PlannerBenchOptions& o, const std::string& scene) {
 // message) when rendering or a frame fails.
 bool feed_parking_lot(const sim::SceneSpec& scene, const Case& c, int frames, uint64_t seed,
                       Run& run) {
-  auto seq = render_depth_sequence(scene, {.width = 320,
-                                           .height = 256,
-                                           .frames = frames,
-                                           .frame_period_s = 0.4,
-                                           .min_range_m = c.tsdf.min_range_m,
-                                           .max_range_m = c.tsdf.max_range_m,
-                                           .seed = seed});
+  const auto seq = render_parking_lot(scene, c.scene, c.tsdf, frames, seed);
   if (!seq) {
-    std::fprintf(stderr, "bench planner: rendering %s failed: %s\n", c.scene.c_str(),
-                 seq.error().c_str());
+    std::fprintf(stderr, "bench planner: %s\n", seq.error().c_str());
     return false;
   }
-  for (size_t i = 0; i < seq->depth_m.size(); ++i)
-    if (auto r = run.add(depth_frame(seq->depth_m[i], seq->intrinsics, seq->T_world_cam[i])); !r) {
-      std::fprintf(stderr, "bench planner: %s\n", r.error().c_str());
-      return false;
-    }
+  if (auto fed = feed_sequence(*seq, [&](const tsdf::DepthFrame& f) { return run.add(f); }); !fed) {
+    std::fprintf(stderr, "bench planner: %s\n", fed.error().c_str());
+    return false;
+  }
   return true;
 }
 
@@ -363,19 +349,8 @@ bool feed_parking_lot(const sim::SceneSpec& scene, const Case& c, int frames, ui
 // (after a message) when the flight or a frame fails.
 bool feed_powerplant(const sim::SceneSpec& scene, const Case& c, const PlannerBenchOptions& o,
                      int frames, Run& run) {
-  FlightSequenceOptions flight;
-  flight.frames = frames;
-  if (o.quick) {
-    flight.lap_fraction = 0.1;
-    flight.width = 376;
-    flight.height = 217;
-  }
-  flight.min_range_m = c.tsdf.min_range_m;
-  flight.max_range_m = c.tsdf.max_range_m;
-  flight.seed = o.seed;
-  const auto lap = fly_lap(scene, flight, [&](const msg::DepthImage& d) {
-    return run.add(depth_frame(d.depth_m, d.intrinsics, d.T_world_cam));
-  });
+  const auto lap = fly_lap_into(scene, powerplant_flight(c.tsdf, frames, o.quick, o.seed),
+                                [&](const tsdf::DepthFrame& f) { return run.add(f); });
   if (!lap) {
     std::fprintf(stderr, "bench planner: %s: %s\n", c.scene.c_str(), lap.error().c_str());
     return false;
@@ -432,11 +407,8 @@ int run_planner_bench(const PlannerBenchOptions& o) {
   for (const Case& c : {parking_lot_case(o.seed), powerplant_case(o.seed)}) {
     if (!wanted(o, c.scene)) continue;
     const bool parking = c.scene == "parking_lot";
-    auto scene = sim::load_scene(parking ? o.parking_lot_path : o.powerplant_path);
-    if (!scene) {
-      for (const auto& e : scene.error()) std::fprintf(stderr, "%s\n", e.c_str());
-      return 2;
-    }
+    const auto scene = load_scene_or_report(parking ? o.parking_lot_path : o.powerplant_path);
+    if (!scene) return 2;
     auto truth = ground_truth(*scene);
     if (!truth) {
       std::fprintf(stderr, "bench planner: %s: %s\n", c.scene.c_str(), truth.error().c_str());
@@ -469,13 +441,7 @@ int run_planner_bench(const PlannerBenchOptions& o) {
     if (!add_query_figures(c, run, *truth, queries, firsts, o.seed, row)) ++failures;
     out["results"].push_back(row);
   }
-  out["load_average_1min"].push_back(load_average());
-  add_targets(out);
-  if (o.json)
-    std::printf("%s\n", out.dump().c_str());
-  else
-    print_table(out);
-  return failures == 0 ? 0 : 1;
+  return finish_report(out, o.json, failures, add_targets, print_table);
 }
 
 }  // namespace scancrew::bench

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bench/bench_stats.hpp"
+#include "bench/common/report.hpp"
 #include "bench/tsdf/depth_sequence.hpp"
 #include "bench/tsdf/open3d_peer.hpp"
 #include "bench/tsdf/tsdf_report.hpp"
@@ -432,15 +433,7 @@ int run_tsdf_bench(const TsdfBenchOptions& o) {
         if (!run_case(b, *seq, {w, h}, Case{v, r}, out)) ++failures;
   }
 
-  out["load_average_1min"].push_back(load_average());
-
-  add_targets(out);
-
-  if (o.json)
-    std::printf("%s\n", out.dump().c_str());
-  else
-    print_table(out);
-  return failures == 0 ? 0 : 1;
+  return finish_report(out, o.json, failures, add_targets, print_table);
 }
 
 }  // namespace scancrew::bench

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <utility>
 
 #include "core/tsdf/patch_codec_format.hpp"
 
@@ -107,43 +108,46 @@ Result<std::vector<uint8_t>, std::string> decompress(const std::vector<uint8_t>&
   return out;
 }
 
-}  // namespace
-
-Result<DecodedPatch, std::string> decode_patch(const msg::TsdfPatch& patch,
-                                               const TsdfConfig& expected,
-                                               const PatchCodecConfig& codec) {
-  auto fail = [&](const std::string& why) {
-    return make_unexpected("patch " + std::to_string(patch.robot_id) + "/" +
-                           std::to_string(patch.index) + " refused: " + why);
-  };
-  if (auto problem = codec.validate(); !problem.empty()) return fail(problem);
+// Checks the patch's fixed fields against the receiver's config and each other.
+Result<void, std::string> check_fixed_fields(const msg::TsdfPatch& patch,
+                                             const TsdfConfig& expected,
+                                             const PatchCodecConfig& codec) {
   auto near = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::abs(b); };
 
   // the fixed fields, against the receiver's map and each other
   if (patch.patch_id != make_patch_id(patch.robot_id, patch.index))
-    return fail("patch_id " + std::to_string(patch.patch_id) + " is not (robot_id << 32) | index");
+    return make_unexpected("patch_id " + std::to_string(patch.patch_id) +
+                           " is not (robot_id << 32) | index");
   if (!near(patch.voxel_size_m, expected.voxel_m))
-    return fail("voxel size " + std::to_string(patch.voxel_size_m) + " m, this map's is " +
-                std::to_string(expected.voxel_m) + " m");
+    return make_unexpected("voxel size " + std::to_string(patch.voxel_size_m) +
+                           " m, this map's is " + std::to_string(expected.voxel_m) + " m");
   if (!near(patch.truncation_m, expected.truncation_m))
-    return fail("truncation " + std::to_string(patch.truncation_m) + " m, this map's is " +
-                std::to_string(expected.truncation_m) + " m");
+    return make_unexpected("truncation " + std::to_string(patch.truncation_m) +
+                           " m, this map's is " + std::to_string(expected.truncation_m) + " m");
   if (patch.block_count > codec.max_blocks)
-    return fail(std::to_string(patch.block_count) + " blocks, more than max_blocks " +
-                std::to_string(codec.max_blocks));
+    return make_unexpected(std::to_string(patch.block_count) + " blocks, more than max_blocks " +
+                           std::to_string(codec.max_blocks));
   if (patch.raw_bytes > kMaxRawBytes)
-    return fail("raw_bytes " + std::to_string(patch.raw_bytes) + " exceeds 512 MiB");
+    return make_unexpected("raw_bytes " + std::to_string(patch.raw_bytes) + " exceeds 512 MiB");
   if (patch.raw_bytes < min_payload(patch.block_count, 1) ||
       patch.raw_bytes > max_payload(patch.block_count, 2))
-    return fail("raw_bytes " + std::to_string(patch.raw_bytes) + " cannot hold " +
-                std::to_string(patch.block_count) + " blocks");
+    return make_unexpected("raw_bytes " + std::to_string(patch.raw_bytes) + " cannot hold " +
+                           std::to_string(patch.block_count) + " blocks");
+  return {};
+}
 
-  auto payload = decompress(patch.data, patch.raw_bytes);
-  if (!payload) return fail(payload.error());
-  const std::vector<uint8_t>& bytes = *payload;
+// The payload header's fields that the rest of the payload is read with.
+struct PayloadHeader {
+  uint32_t block_count = 0;
+  WeightQuantiser quantiser;
+  int weight_bytes = 1;
+};
+
+// Reads the payload header and checks it against the patch's fields and the payload size.
+Result<PayloadHeader, std::string> read_header(ByteReader& r, const msg::TsdfPatch& patch) {
+  const std::vector<uint8_t>& bytes = r.in;
 
   // header
-  ByteReader r{bytes};
   char magic[4] = {};
   uint8_t version = 0, weight_bits = 0;
   uint16_t reserved = 0;
@@ -157,51 +161,70 @@ Result<DecodedPatch, std::string> decode_patch(const msg::TsdfPatch& patch,
   r.get(quantiser.w_anchor);
   r.get(quantiser.w_max);
   r.get(quantiser.s);
-  if (!r.get(quantiser.anchor_code)) return fail("payload shorter than its header");
+  if (!r.get(quantiser.anchor_code))
+    return make_unexpected(std::string("payload shorter than its header"));
   if (std::memcmp(magic, kMagic, 4) != 0 || reserved != 0)
-    return fail("payload is not a TSDF patch");
+    return make_unexpected(std::string("payload is not a TSDF patch"));
   if (version != kPayloadVersion)
-    return fail("payload version " + std::to_string(version) + ", expected " +
-                std::to_string(kPayloadVersion));
+    return make_unexpected("payload version " + std::to_string(version) + ", expected " +
+                           std::to_string(kPayloadVersion));
   if (weight_bits < 8 || weight_bits > 16)
-    return fail("weight_bits " + std::to_string(weight_bits));
+    return make_unexpected("weight_bits " + std::to_string(weight_bits));
   quantiser.bits = weight_bits;
   if (block_count != patch.block_count)
-    return fail("payload holds " + std::to_string(block_count) + " blocks, block_count says " +
-                std::to_string(patch.block_count));
+    return make_unexpected("payload holds " + std::to_string(block_count) +
+                           " blocks, block_count says " + std::to_string(patch.block_count));
   if (!(quantiser.w_anchor >= kMinWeight && quantiser.w_max <= kMaxWeight &&
         quantiser.w_max >= quantiser.w_anchor && std::isfinite(quantiser.s) && quantiser.s > 0 &&
         quantiser.s <= 1 && quantiser.anchor_code >= 1 &&
         quantiser.anchor_code <= quantiser.top_code()))
-    return fail("weight quantiser out of range");
+    return make_unexpected(std::string("weight quantiser out of range"));
   const int weight_bytes = weight_bits > 8 ? 2 : 1;
   if (bytes.size() < min_payload(block_count, weight_bytes) ||
       bytes.size() > max_payload(block_count, weight_bytes))
-    return fail("payload of " + std::to_string(bytes.size()) + " bytes cannot hold " +
-                std::to_string(block_count) + " blocks");
+    return make_unexpected("payload of " + std::to_string(bytes.size()) + " bytes cannot hold " +
+                           std::to_string(block_count) + " blocks");
+  return PayloadHeader{block_count, quantiser, weight_bytes};
+}
 
+// Reads the block indices' varint deltas and checks them.
+Result<std::vector<BlockIndex>, std::string> read_indices(ByteReader& r, uint32_t block_count) {
   // indices: in range, strictly increasing (so no duplicate)
-  DecodedPatch out;
   std::vector<BlockIndex> indices;
   indices.reserve(block_count);  // bounded by the payload size, checked above
   int64_t x = 0, y = 0, z = 0;
   for (uint32_t i = 0; i < block_count; ++i) {
     int64_t dx = 0, dy = 0, dz = 0;
     if (!r.varint(dx) || !r.varint(dy) || !r.varint(dz))
-      return fail("block index " + std::to_string(i) + " is malformed or truncated");
+      return make_unexpected("block index " + std::to_string(i) + " is malformed or truncated");
     x += dx;
     y += dy;
     z += dz;
     if (std::max({std::abs(x), std::abs(y), std::abs(z)}) > kMaxBlockCoord)
-      return fail("block index " + index_text(x, y, z) + " is outside the lattice");
+      return make_unexpected("block index " + index_text(x, y, z) + " is outside the lattice");
     const BlockIndex b(static_cast<int>(x), static_cast<int>(y), static_cast<int>(z));
     if (i > 0 && !index_less(indices.back(), b))
-      return fail("block index " + index_text(x, y, z) + " duplicated or out of order");
+      return make_unexpected("block index " + index_text(x, y, z) + " duplicated or out of order");
     indices.push_back(b);
   }
+  return indices;
+}
+
+// Where the masks and the planes lie in the payload, and how many voxels they hold.
+struct PayloadPlanes {
+  const uint8_t* masks = nullptr;
+  const uint8_t* distances = nullptr;
+  size_t observed = 0;
+};
+
+// Reads the masks and checks that the planes fill the rest of the payload exactly.
+Result<PayloadPlanes, std::string> read_masks(ByteReader& r, uint32_t block_count,
+                                              int weight_bytes) {
+  const std::vector<uint8_t>& bytes = r.in;
 
   // masks, then the planes, which must fill the rest exactly
-  if (r.left() < size_t{block_count} * kMaskBytes) return fail("payload truncated in the masks");
+  if (r.left() < size_t{block_count} * kMaskBytes)
+    return make_unexpected(std::string("payload truncated in the masks"));
   const uint8_t* masks = bytes.data() + r.at;
   r.at += size_t{block_count} * kMaskBytes;
   size_t observed = 0;
@@ -209,49 +232,94 @@ Result<DecodedPatch, std::string> decode_patch(const msg::TsdfPatch& patch,
     size_t in_block = 0;
     for (size_t j = 0; j < kMaskBytes; ++j)
       in_block += static_cast<size_t>(std::popcount(masks[i * kMaskBytes + j]));
-    if (in_block == 0) return fail("block " + std::to_string(i) + " has no observed voxel");
+    if (in_block == 0)
+      return make_unexpected("block " + std::to_string(i) + " has no observed voxel");
     observed += in_block;
   }
   const size_t planes = observed * (1 + weight_bytes);
   if (r.left() < planes)
-    return fail("payload truncated: " + std::to_string(observed) + " voxels need " +
-                std::to_string(planes) + " bytes, " + std::to_string(r.left()) + " left");
-  if (r.left() > planes) return fail(std::to_string(r.left() - planes) + " trailing bytes");
+    return make_unexpected("payload truncated: " + std::to_string(observed) + " voxels need " +
+                           std::to_string(planes) + " bytes, " + std::to_string(r.left()) +
+                           " left");
+  if (r.left() > planes)
+    return make_unexpected(std::to_string(r.left() - planes) + " trailing bytes");
+  return PayloadPlanes{masks, bytes.data() + r.at, observed};
+}
 
-  const std::vector<float> weight_of = quantiser.table();
+// Decodes every observed voxel's distance and weight code into the blocks.
+Result<std::vector<DecodedBlock>, std::string> decode_blocks(const msg::TsdfPatch& patch,
+                                                             const PayloadHeader& header,
+                                                             const std::vector<BlockIndex>& indices,
+                                                             const PayloadPlanes& planes) {
+  const uint32_t block_count = header.block_count;
+  const int weight_bytes = header.weight_bytes;
+  const size_t observed = planes.observed;
+  const uint8_t* masks = planes.masks;
+  const std::vector<float> weight_of = header.quantiser.table();
   const auto mu = static_cast<float>(patch.truncation_m);
-  const uint8_t* distances = bytes.data() + r.at;
+  const uint8_t* distances = planes.distances;
   const uint8_t* weights_hi = distances + observed;
   const uint8_t* weights_lo = weights_hi + observed;
-  const uint32_t code_mask = quantiser.top_code();
-  out.blocks.resize(block_count);
+  const uint32_t code_mask = header.quantiser.top_code();
+  std::vector<DecodedBlock> blocks(block_count);
   size_t n = 0;
   int64_t code = 0;
   std::array<int32_t, kBlockVoxels> codes{};
   for (uint32_t i = 0; i < block_count; ++i) {
-    DecodedBlock& db = out.blocks[i];
+    DecodedBlock& db = blocks[i];
     db.index = indices[i];
     db.block.owner = patch.robot_id;
     codes.fill(-1);
     for (int v = 0; v < kBlockVoxels; ++v) {
       if ((masks[i * kMaskBytes + v / 8] & (1u << (v % 8))) == 0) continue;
       const auto q = static_cast<int8_t>(distances[n]);
-      if (q == INT8_MIN) return fail("distance code -128 at voxel " + std::to_string(n));
+      if (q == INT8_MIN) return make_unexpected("distance code -128 at voxel " + std::to_string(n));
       const uint32_t delta =
           weight_bytes == 1 ? weights_hi[n] : (uint32_t{weights_hi[n]} << 8) | weights_lo[n];
       code = (predict(codes, v, code) + delta) & code_mask;
-      if (code == 0) return fail("weight code 0 at voxel " + std::to_string(n));
+      if (code == 0) return make_unexpected("weight code 0 at voxel " + std::to_string(n));
       codes[static_cast<size_t>(v)] = static_cast<int32_t>(code);
       db.block.voxels[static_cast<size_t>(v)] = {static_cast<float>(q) / 127.0F * mu,
                                                  weight_of[static_cast<size_t>(code)]};
       ++n;
     }
   }
+  return blocks;
+}
+
+}  // namespace
+
+Result<DecodedPatch, std::string> decode_patch(const msg::TsdfPatch& patch,
+                                               const TsdfConfig& expected,
+                                               const PatchCodecConfig& codec) {
+  auto fail = [&](const std::string& why) {
+    return make_unexpected("patch " + std::to_string(patch.robot_id) + "/" +
+                           std::to_string(patch.index) + " refused: " + why);
+  };
+  if (auto problem = codec.validate(); !problem.empty()) return fail(problem);
+  if (auto fixed = check_fixed_fields(patch, expected, codec); !fixed) return fail(fixed.error());
+
+  auto payload = decompress(patch.data, patch.raw_bytes);
+  if (!payload) return fail(payload.error());
+  const std::vector<uint8_t>& bytes = *payload;
+
+  ByteReader r{bytes};
+  auto header = read_header(r, patch);
+  if (!header) return fail(header.error());
+  auto indices = read_indices(r, header->block_count);
+  if (!indices) return fail(indices.error());
+  auto planes = read_masks(r, header->block_count, header->weight_bytes);
+  if (!planes) return fail(planes.error());
+  auto blocks = decode_blocks(patch, *header, *indices, *planes);
+  if (!blocks) return fail(blocks.error());
+
+  DecodedPatch out;
+  out.blocks = std::move(*blocks);
   out.patch_id = patch.patch_id;
   out.robot_id = patch.robot_id;
   out.index = patch.index;
   out.T_world_patch = patch.T_world_patch;
-  out.observed_voxels = observed;
+  out.observed_voxels = planes->observed;
   return out;
 }
 
