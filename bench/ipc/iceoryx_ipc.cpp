@@ -199,15 +199,7 @@ IpcResult run_case(size_t payload, bool cross_thread, const IpcOptions& options)
     stamp->t0_ns = t0;
     stamp->seq = static_cast<uint64_t>(i);
     publisher.publish(loan.value());
-    const int64_t give_up = monotonic_now_ns() + 1'000'000'000;
-    if (!cross_thread) {
-      while (received.load() == before && monotonic_now_ns() < give_up) take_all();
-    } else {
-      while (received.load(std::memory_order_acquire) == before && monotonic_now_ns() < give_up) {
-      }
-      std::this_thread::sleep_for(std::chrono::microseconds(options.gap_us));
-    }
-    if (received.load() == before) ++result.lost;
+    if (!await_delivery(received, before, cross_thread, options.gap_us, take_all)) ++result.lost;
   }
   stop.store(true);
   if (receiver.joinable()) {

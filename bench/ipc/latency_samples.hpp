@@ -2,10 +2,14 @@
 
 // Exact latency samples of one benchmark case, preallocated (recording allocates nothing).
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <thread>
 #include <vector>
 
 #include "bench/ipc/ipc_bench.hpp"
+#include "executors/clock.hpp"
 
 namespace scancrew::bench {
 
@@ -23,5 +27,22 @@ class LatencySamples {
  private:
   std::vector<int64_t> values_ns_;
 };
+
+// The peers' wait for one sample, after its write (Fast DDS, iceoryx): on this thread,
+// `take_all` until `received` moves past `before`; across threads, spin until the reader's
+// thread moves it, then sleep gap_us. At most 1 s; true when it arrived.
+template <class TakeAll>
+bool await_delivery(const std::atomic<uint64_t>& received, uint64_t before, bool cross_thread,
+                    int64_t gap_us, TakeAll&& take_all) {
+  const int64_t give_up = monotonic_now_ns() + 1'000'000'000;
+  if (!cross_thread) {
+    while (received.load() == before && monotonic_now_ns() < give_up) take_all();
+  } else {
+    while (received.load(std::memory_order_acquire) == before && monotonic_now_ns() < give_up) {
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(gap_us));
+  }
+  return received.load() != before;
+}
 
 }  // namespace scancrew::bench
