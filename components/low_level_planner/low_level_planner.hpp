@@ -27,13 +27,14 @@
 //   out  tour          msg::TeamPlan     the tour followed (one sequence), for teammates
 //   out  skipped_goal  msg::Odometry     each viewpoint skipped (no path, stall, detour):
 //                                        the ISE extractor counts it as a visit
+//   out  replan_request msg::ReplanRequest a request for a new tour, with its reason
 //
 // A goal it cannot plan to (no path, goal in collision or unknown space) is skipped,
 // logged once per kind; after max_consecutive_failures skips it asks for a new plan. A
 // start in collision (the robot stopped close to a surface it just discovered) is left by
 // backing off to the nearest free pose, then the goal is planned again; with no free pose
 // near, it asks for a new plan. A stale map (kMapStale) waits for the next one. A request
-// unanswered for replan_timeout_s is sent again (the robot_state mode is toggled through kIdle).
+// (replan_request) unanswered for replan_timeout_s is sent again, marked repeated.
 //
 // Parameters: control_period_s, traffic_policy, redundancy_check,
 // max_consecutive_failures, replan_timeout_s, backoff_max_m, backoff_step_m, backoff_min_m,
