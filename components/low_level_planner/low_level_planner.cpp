@@ -229,7 +229,13 @@ void LowLevelPlanner::request_replan(ReplanReason reason, uint32_t because_of,
                      .path_out = path_is_out(),
                      .reason = reason,
                      .because_of_robot = because_of,
-                     .unsent = true};
+                     // a request made before the robot published any mode but kPlanning
+                     // since its last one (the new tour's first goals fail at once, the
+                     // redundancy check fires at once) waits for replan_timeout_s, as when
+                     // a request was the mode turning to kPlanning: answered at once, two
+                     // robots' dist-TSGA planners traded clusters back and forth (31
+                     // redundancy requests in the indoor pair of bench explore --quick)
+                     .unsent = published_mode_ != Mode::kPlanning};
   enter(State::kAwaitingPlan);
   pending_.reset();  // computed before the reason to replan
   ++stats_.replans;
@@ -303,6 +309,7 @@ void LowLevelPlanner::publish_state() {
   s.T_world_body = pose_->T_world_body;
   s.velocity_mps = pose_->linear_velocity_mps;
   s.mode = mode_;
+  published_mode_ = mode_;
   s.plan_id = tour_ ? tour_->plan_id : 0;
   s.current_cluster = tour_ && !tour_->done() ? tour_->goal_cluster() : 0;
   s.path_index = tour_ ? static_cast<uint32_t>(tour_->next) : 0;

@@ -304,6 +304,7 @@ class LowLevelPlanner final : public Component {
   int consecutive_failures_ = 0;
   uint64_t local_path_id_ = 0;
   msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
+  msg::RobotState::Mode published_mode_ = msg::RobotState::Mode::kIdle;  // the last sent
   msg::Maneuver::Kind last_maneuver_ = msg::Maneuver::Kind::kResume;
   TrafficDecision last_traffic_;  // the last one logged (log_traffic)
   struct AsideSent {
