@@ -111,7 +111,7 @@ class ReusableLazyPrmStar : public ompl::geometric::LazyPRMstar {
   // Over 80 lines: one lazy Dijkstra whose queue, marks and deletions every step shares; in
   // pieces they would travel as a dozen arguments.
   template <class Position>
-  // NOLINTNEXTLINE(readability-function-size)
+  // NOLINTNEXTLINE(readability-function-size): one Dijkstra, its state shared by every step
   DistanceResult distances(const State* from, const std::vector<const State*>& targets,
                            const Position& position) {
     const size_t k = connection_count();
