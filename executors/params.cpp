@@ -274,15 +274,21 @@ SCANCREW_PARAM_TYPE(std::string)
 
 void ParamReader::choice(std::string_view key, std::string& value,
                          std::initializer_list<std::string_view> allowed, bool is_required) {
+  choose(key, value, std::vector<std::string_view>(allowed), is_required);
+}
+
+bool ParamReader::choose(std::string_view key, std::string& value,
+                         const std::vector<std::string_view>& allowed, bool is_required) {
   std::string picked = value;
   read(key, picked, {}, is_required);
   std::string list;
   for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
   if (std::find(allowed.begin(), allowed.end(), picked) == allowed.end()) {
     error(key, "'" + picked + "' is not allowed; allowed: " + list);
-    return;
+    return false;
   }
   value = picked;
+  return true;
 }
 
 void ParamReader::optional_list(std::string_view key, std::vector<double>& value, size_t size,

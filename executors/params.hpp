@@ -13,6 +13,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.hpp"
+
 namespace scancrew {
 
 struct Range {
@@ -40,6 +42,16 @@ class ParamReader {
   // A string that must be one of `allowed`.
   void choice(std::string_view key, std::string& value,
               std::initializer_list<std::string_view> allowed, bool is_required = false);
+  // An enum named as one of `names` (core/enum_names.hpp); the error lists them.
+  template <class E, size_t N>
+  void choice(std::string_view key, E& value, const EnumNames<E, N>& names,
+              bool is_required = false) {
+    std::vector<std::string_view> allowed;
+    allowed.reserve(N);
+    for (const auto& n : names) allowed.push_back(n.name);
+    std::string picked(name_of(names, value));
+    if (choose(key, picked, allowed, is_required)) value = *value_of(names, picked);
+  }
   // A list of numbers; `size` 0 means any length.
   void optional_list(std::string_view key, std::vector<double>& value, size_t size = 0,
                      Range range = {});
@@ -61,6 +73,9 @@ class ParamReader {
  private:
   template <class T>
   void read(std::string_view key, T& value, Range range, bool is_required);
+  // Reads `key` into `value` if it is one of `allowed`; false (and an error) if not.
+  bool choose(std::string_view key, std::string& value,
+              const std::vector<std::string_view>& allowed, bool is_required);
   void error(std::string_view key, const std::string& message);
 
   std::unique_ptr<Impl> impl_;

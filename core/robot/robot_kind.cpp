@@ -3,12 +3,11 @@
 namespace scancrew::robot {
 
 const char* to_string(RobotKind kind) {
-  return kind == RobotKind::kGround ? "ground" : "multirotor";
+  return name_of(kRobotKindNames, kind).data();  // the table's names are literals
 }
 
 Result<RobotKind, std::string> parse_robot_kind(std::string_view name) {
-  if (name == "ground") return RobotKind::kGround;
-  if (name == "multirotor") return RobotKind::kMultirotor;
+  if (const auto kind = value_of(kRobotKindNames, name)) return *kind;
   return make_unexpected("unknown robot kind '" + std::string(name) + "' (ground | multirotor)");
 }
 

@@ -8,11 +8,15 @@
 #include <string>
 #include <string_view>
 
+#include "core/enum_names.hpp"
 #include "core/result.hpp"
 
 namespace scancrew::robot {
 
 enum class RobotKind : uint8_t { kGround = 0, kMultirotor = 1 };
+
+inline constexpr EnumNames<RobotKind, 2> kRobotKindNames = {
+    {{RobotKind::kGround, "ground"}, {RobotKind::kMultirotor, "multirotor"}}};
 
 const char* to_string(RobotKind kind);  // "ground", "multirotor"
 

@@ -96,6 +96,23 @@ TEST(ParamReader, ChoiceListsTheAllowedValues) {
   EXPECT_EQ(mode, "vio");
 }
 
+enum class Fruit { kApple, kPear };
+constexpr EnumNames<Fruit, 2> kFruitNames = {{{Fruit::kApple, "apple"}, {Fruit::kPear, "pear"}}};
+
+TEST(ParamReader, ChoiceOfAnEnumParsesItsNamesAndListsThem) {
+  auto r = ParamReader::from_yaml_string("a: pear\nb: plum\n", "cfg.yaml");
+  Fruit a = Fruit::kApple, b = Fruit::kApple, c = Fruit::kPear;
+  r.choice("a", a, kFruitNames);
+  r.choice("b", b, kFruitNames);
+  r.choice("c", c, kFruitNames);  // missing: keeps the default
+  EXPECT_EQ(a, Fruit::kPear);
+  EXPECT_EQ(b, Fruit::kApple);
+  EXPECT_EQ(c, Fruit::kPear);
+  ASSERT_EQ(r.errors().size(), 1U);
+  EXPECT_TRUE(has_error(r, "params.b: 'plum' is not allowed; allowed: apple, pear"));
+  EXPECT_EQ(name_of(kFruitNames, Fruit::kPear), "pear");
+}
+
 TEST(ParamReader, ListsHaveTheirShapeChecked) {
   auto r = ParamReader::from_yaml_string("xyz: [1, 2]\nok: [1, 2, 3]\n", "cfg.yaml");
   std::vector<double> xyz, ok;
