@@ -3,7 +3,7 @@
 // Runs of this executable as child processes (scancrew sweep, scancrew bench explore): a
 // process of its own per mission, as a run on its own is. In one process, state of a run
 // outlives it: OMPL takes its seed once per process, so every run after the first would
-// ignore low_level.planner_seed and depend on the runs before it.
+// ignore low_level_planner.planner_seed and depend on the runs before it.
 //
 // A child ends with its parent (PR_SET_PDEATHSIG: SIGTERM). Not thread safe: one thread
 // starts and waits for children.

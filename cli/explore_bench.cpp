@@ -191,7 +191,7 @@ std::string machine_line() {
   return std::to_string(std::thread::hardware_concurrency()) + " cores (" + host + ")";
 }
 
-// The planning map's voxel of a robot kind: its profile's mapper.voxel_m (the missions are
+// The planning map's voxel of a robot kind: its profile's tsdf_mapper.voxel_m (the missions are
 // composed from it), else the thesis's (0.1 m as our ground missions, 0.3 m).
 TargetVoxels profile_voxels() {
   TargetVoxels v;
@@ -201,7 +201,7 @@ TargetVoxels profile_voxels() {
     if (!text) continue;
     const auto root = parse_yaml(*text, kind);
     if (!root || !root->IsMap()) continue;
-    const YAML::Node value = (*root)["mapper"]["voxel_m"];
+    const YAML::Node value = (*root)["tsdf_mapper"]["voxel_m"];
     try {
       if (value.IsDefined() && value.IsScalar()) *voxel = value.as<double>();
     } catch (const YAML::Exception&) {  // not a number: the composed missions refuse it anyway

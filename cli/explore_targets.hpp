@@ -21,7 +21,7 @@
 namespace scancrew::cli {
 
 struct TargetVoxels {
-  double ground_m = 0.1;      // the ground profile's mapper.voxel_m
+  double ground_m = 0.1;      // the ground profile's tsdf_mapper.voxel_m
   double multirotor_m = 0.3;  // the multirotor profile's
 };
 

@@ -57,7 +57,7 @@ Result<dds_bridge::PlaceGrant, std::string> grant_from_launch(
     const std::vector<std::string>& overrides) {
   auto root = parse_yaml(launch_text, label);
   if (!root) return make_unexpected(root.error());
-  // the bridges' topics as the launch runs them (`--set bridge.export_topics=...`)
+  // the bridges' topics as the launch runs them (`--set dds_bridge.export_topics=...`)
   if (const auto errors = apply_launch_overrides(*root, overrides, label); !errors.empty())
     return make_unexpected(errors.front());
   std::vector<TeamMember> team;
@@ -78,7 +78,9 @@ Result<dds_bridge::PlaceGrant, std::string> grant_from_launch(
   if (const YAML::Node components = (*root)["components"]; components.IsSequence())
     for (const YAML::Node& c : components) {
       if (!c.IsMap() || !c["type"].IsScalar() || c["type"].Scalar() != "dds_bridge") continue;
-      const std::string name = c["name"].IsScalar() ? c["name"].Scalar() : "dds_bridge";
+      // no name: named by its type
+      const std::string name =
+          c["name"].IsDefined() && c["name"].IsScalar() ? c["name"].Scalar() : "dds_bridge";
       auto fail = [&](const std::string& e) {
         return make_unexpected(label + ": component '" + name + "': " + e);
       };

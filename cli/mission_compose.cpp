@@ -45,14 +45,14 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   const bool centralized = s.arch == "centralized";
   const bool single = s.arch == "single";
   std::vector<ComponentPlan> g;
-  ComponentPlan sim{.name = "sim", .type = "team_simulator", .per_robot = false};
+  ComponentPlan sim{.name = "team_simulator", .type = "team_simulator", .per_robot = false};
   sim.params["scene"] = s.scene_path;
   sim.params["seed"] = s.seed;
   sim.params["publish_stereo"] = false;
   g.push_back(sim);
-  if (masked) g.push_back({.name = "mask", .type = "depth_mask"});
+  if (masked) g.push_back({.name = "depth_mask", .type = "depth_mask"});
 
-  ComponentPlan mapper{.name = "mapper", .type = "tsdf_mapper", .per_robot = !centralized};
+  ComponentPlan mapper{.name = "tsdf_mapper", .type = "tsdf_mapper", .per_robot = !centralized};
   mapper.params["mode"] = s.arch;
   if (masked) mapper.params["depth_topic"] = "depth_masked";
   // with a reconstruction map, mesh.ply is its mesh (cli/mesh_scores.cpp, best_mesh) and the
@@ -64,7 +64,7 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   g.push_back(mapper);
   if (s.reconstruction_voxel_m > 0) {
     // the reconstruction: the same depth in a finer map whose mesh is the result (the
-    // profile's mapper section fills the rest). Its truncation is 5 of its voxels: at the
+    // profile's tsdf_mapper section fills the rest). Its truncation is 5 of its voxels: at the
     // multirotors' 8 m range 3 sigma of the depth noise is 0.47 m (docs/missions.md, "A finer
     // reconstruction map"). Nothing reads its map topic, renamed so no planner takes it.
     ComponentPlan recon{.name = "recon", .type = "tsdf_mapper", .per_robot = !centralized};
@@ -80,13 +80,14 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   // the ISE criterion's bound: the scene's bounds are the region to reconstruct. Outdoors
   // the floor runs on past them, and its edge, with unknown space beyond, would stay an
   // ISE for ever (docs/ise.md, "The region to reconstruct")
-  ComponentPlan ise{.name = "ise", .type = "ise_extractor", .per_robot = !centralized};
+  ComponentPlan ise{.name = "ise_extractor", .type = "ise_extractor", .per_robot = !centralized};
   ise.params["region_min_m"] = flow_vector(scene.min_m);
   ise.params["region_max_m"] = flow_vector(scene.max_m);
   g.push_back(ise);
 
-  ComponentPlan planner{
-      .name = "planner", .type = "high_level_planner", .per_robot = !centralized && !single};
+  ComponentPlan planner{.name = "high_level_planner",
+                        .type = "high_level_planner",
+                        .per_robot = !centralized && !single};
   planner.params["algorithm"] = s.arch == "distributed" ? "dist_tsga" : "tsga";
   if (single) {
     // the one robot's clusters and ISEs, as launch_cfg/missions/parking_lot_1_single.yaml
@@ -95,7 +96,7 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   }
   g.push_back(planner);
 
-  ComponentPlan low{.name = "low_level", .type = "low_level_planner"};
+  ComponentPlan low{.name = "low_level_planner", .type = "low_level_planner"};
   low.params["redundancy_check"] = s.arch == "distributed";
   if (centralized) {
     low.remap["plan"] = "/plan";
@@ -105,9 +106,9 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
     low.remap["plan"] = "/plan";
   }
   g.push_back(low);
-  g.push_back({.name = "tracker", .type = "path_tracker"});
+  g.push_back({.name = "path_tracker", .type = "path_tracker"});
 
-  ComponentPlan monitor{.name = "monitor", .type = "mission_monitor", .per_robot = false};
+  ComponentPlan monitor{.name = "mission_monitor", .type = "mission_monitor", .per_robot = false};
   monitor.params["scene"] = s.scene_path;
   if (centralized) monitor.params["maps"] = "shared";
   g.push_back(monitor);
@@ -151,7 +152,8 @@ Result<YAML::Node, std::string> read_profile(const std::string& profile_path) {
   if (!profile->IsMap()) return make_unexpected(profile_path + ": a profile is a mapping");
   // every section names a component of some architecture's graph, or <name>_<architecture>
   static constexpr std::array<std::string_view, 8> kNames = {
-      "sim", "mask", "mapper", "ise", "planner", "low_level", "tracker", "monitor"};
+      "team_simulator",     "depth_mask",        "tsdf_mapper",  "ise_extractor",
+      "high_level_planner", "low_level_planner", "path_tracker", "mission_monitor"};
   for (const auto& kv : *profile) {
     const std::string key = kv.first.Scalar();
     bool known = false;
@@ -161,9 +163,10 @@ Result<YAML::Node, std::string> read_profile(const std::string& profile_path) {
     if (!known || !kv.second.IsMap())
       return make_unexpected(yaml_location(profile_path, kv.first) + ": '" + key +
                              "' is no component of a mission (a mapping of its parameters); "
-                             "allowed: sim, mask, mapper, ise, planner, low_level, tracker, "
-                             "monitor, each optionally with _single, _centralized or "
-                             "_distributed");
+                             "allowed: team_simulator, depth_mask, tsdf_mapper, "
+                             "ise_extractor, high_level_planner, low_level_planner, "
+                             "path_tracker, mission_monitor, each optionally with _single, "
+                             "_centralized or _distributed");
   }
   return *profile;
 }
@@ -200,11 +203,11 @@ YAML::Node robot_entry(size_t i, const std::string& kind, const sim::StartPose& 
 // The launch file's entry of a component, with the profile's parameters merged in.
 YAML::Node component_entry(ComponentPlan& c, const MissionSpec& s, YAML::Node& profile) {
   // the reconstruction map takes the planning map's parameters where it sets none
-  const std::string section = c.name == "recon" ? "mapper" : c.name;
-  if (c.name == "monitor" && s.reconstruction_voxel_m > 0) {
+  const std::string section = c.name == "recon" ? "tsdf_mapper" : c.name;
+  if (c.name == "mission_monitor" && s.reconstruction_voxel_m > 0) {
     // both meshes scored at the planning map's e_max, the thesis's (r_v sqrt(3) / 2)
     // (the profile's value: a --set of the voxel does not move it)
-    const YAML::Node voxel = profile["mapper"]["voxel_m"];
+    const YAML::Node voxel = profile["tsdf_mapper"]["voxel_m"];
     try {
       if (voxel.IsDefined() && voxel.IsScalar())
         c.params["eval_e_max_m"] = number(voxel.as<double>() * std::sqrt(3.0) / 2);
@@ -214,7 +217,7 @@ YAML::Node component_entry(ComponentPlan& c, const MissionSpec& s, YAML::Node& p
   merge_section(profile, section, c.params);
   merge_section(profile, section + "_" + s.arch, c.params);
   YAML::Node n(YAML::NodeType::Map);
-  n["name"] = c.name;
+  if (c.name != c.type) n["name"] = c.name;  // one of its type: named by it
   n["type"] = c.type;
   if (!c.per_robot) n["per_robot"] = false;
   if (c.remap.IsDefined() && c.remap.IsMap()) n["remap"] = c.remap;

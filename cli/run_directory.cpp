@@ -171,7 +171,7 @@ Json robot_metrics(const MissionMonitor::RobotProgress& r, const Planners& plann
   Json j;
   j["id"] = r.id;
   j["namespace"] = r.ns;
-  j["kind"] = r.kind;
+  j["kind"] = robot::to_string(r.kind);
   j["path_length_m"] = r.path_length_m;
   const auto p = planners.find(r.id);
   j["replans"] = p != planners.end() ? p->second.replans : r.planning_requests;

@@ -402,7 +402,7 @@ void add_sweep_command(CLI::App& app, CommandTable& table) {
   sweep
       ->add_option("--seed-keys", o->seed_keys,
                    "parameters set to the seed (default: the sweep file's seed_keys, else "
-                   "sim.seed,low_level.planner_seed)")
+                   "team_simulator.seed,low_level_planner.planner_seed)")
       ->delimiter(',');
 }
 

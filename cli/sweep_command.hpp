@@ -31,8 +31,8 @@ struct SweepOptions {
 
 // What seed k sets in every run when neither the sweep file nor --seed-keys says (the
 // simulator's noise and the low-level planner's sampling of the mission launch files).
-inline constexpr std::array<const char*, 2> kDefaultSeedKeys = {"sim.seed",
-                                                                "low_level.planner_seed"};
+inline constexpr std::array<const char*, 2> kDefaultSeedKeys = {"team_simulator.seed",
+                                                                "low_level_planner.planner_seed"};
 
 // 0: every run gave its metrics; 1: a run failed (recorded as such; the others still ran)
 // or the sweep was stopped (Ctrl-C: after the current run; the tables hold what ran);

@@ -10,6 +10,8 @@
 #include <string>
 #include <string_view>
 
+#include "core/enum_names.hpp"
+
 namespace scancrew {
 
 class CallbackGroup {
@@ -40,6 +42,9 @@ class CallbackGroup {
   std::atomic<bool> busy_{false};
 };
 
+inline constexpr EnumNames<CallbackGroup::Type, 2> kCallbackGroupTypeNames = {
+    {{CallbackGroup::Type::kMutuallyExclusive, "mutually_exclusive"},
+     {CallbackGroup::Type::kReentrant, "reentrant"}}};
 std::string_view to_string(CallbackGroup::Type type);
 
 }  // namespace scancrew

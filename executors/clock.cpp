@@ -7,13 +7,7 @@
 namespace scancrew {
 
 std::string_view to_string(ClockType type) {
-  switch (type) {
-    case ClockType::kWall:
-      return "wall";
-    case ClockType::kSim:
-      return "sim";
-  }
-  return "?";
+  return name_of(kClockTypeNames, type);
 }
 
 int64_t WallClock::now_ns() const {

@@ -15,9 +15,13 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.hpp"
+
 namespace scancrew {
 
 enum class ClockType { kWall, kSim };
+inline constexpr EnumNames<ClockType, 2> kClockTypeNames = {
+    {{ClockType::kWall, "wall"}, {ClockType::kSim, "sim"}}};
 std::string_view to_string(ClockType type);
 
 // Monotonic time of this machine in ns, used for publish times and latency tracing.

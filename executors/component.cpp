@@ -21,7 +21,7 @@ std::string_view to_string(LifecycleState state) {
 }
 
 std::string_view to_string(CallbackGroup::Type type) {
-  return type == CallbackGroup::Type::kReentrant ? "reentrant" : "mutually_exclusive";
+  return name_of(kCallbackGroupTypeNames, type);
 }
 
 Component::Component(ComponentContext context) : context_(std::move(context)) {

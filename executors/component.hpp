@@ -24,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/robot/robot_kind.hpp"
 #include "executors/graph.hpp"
 #include "executors/publisher.hpp"
 #include "executors/run_summary.hpp"
@@ -42,15 +43,15 @@ struct PortQos {
 // A robot of the team, as the launch file declares it (robots: section).
 struct TeamMember {
   uint32_t id = 0;
-  std::string ns;               // namespace, e.g. "robot1"
-  std::string kind = "ground";  // ground | multirotor
+  std::string ns;  // namespace, e.g. "robot1"
+  robot::RobotKind kind = robot::RobotKind::kGround;
   double start_x_m = 0, start_y_m = 0, start_z_m = 0, start_yaw_rad = 0;
 };
 
 struct ComponentContext {
   Graph* graph = nullptr;
   std::shared_ptr<const std::vector<TeamMember>> team;  // every robot of the launch file
-  std::string name;                                     // instance name, e.g. "stereo"
+  std::string name;                                     // instance name, e.g. "stereo_depth"
   std::string ns;                                       // namespace, e.g. "robot1" ("" = root)
   uint32_t robot_id = 0;
   std::map<std::string, std::string> remaps;      // port -> topic name (relative or absolute)
@@ -125,24 +126,15 @@ class Component {
   template <Message T>
   Subscription<T>* create_subscription(std::string_view port, SubscriptionQos qos,
                                        typename Subscription<T>::Callback callback) {
-    const std::string topic_name = resolve(port);
-    if (auto o = port_qos(port)) {
-      if (o->depth) qos.depth = *o->depth;
-      if (o->history) qos.history = *o->history;
-    }
-    auto topic = context_.graph->topic<T>(topic_name, PublisherQos{}.pool_size);
-    note_port(port, topic_name, T::kTypeName, EndpointInfo::Kind::kSubscription, topic.has_value());
-    if (!topic) {
-      errors_.push_back(qualified_name_ + "." + std::string(port) + ": " + topic.error());
-      return nullptr;
-    }
-    auto sub = std::make_unique<Subscription<T>>(std::move(topic).value(), qos, std::move(callback),
-                                                 *context_.callback_group, &active_);
-    Subscription<T>* raw = sub.get();
-    raw->set_trace_component(trace_name());
-    owned_.push_back(std::move(sub));
-    executables_.push_back(raw);
-    return raw;
+    return subscribe<T>(port, resolve(port), qos, std::move(callback));
+  }
+  // The same `port` of the teammate in namespace `ns` (resolve_in): recorded as the port, so
+  // the component's remap and qos for it serve every teammate's subscription as its own.
+  template <Message T>
+  Subscription<T>* create_teammate_subscription(std::string_view port, std::string_view ns,
+                                                SubscriptionQos qos,
+                                                typename Subscription<T>::Callback callback) {
+    return subscribe<T>(port, resolve_in(port, ns), qos, std::move(callback));
   }
 
   // A timer on the graph's clock (wall or sim), firing every period while active.
@@ -164,6 +156,27 @@ class Component {
   std::string trace_name() const { return qualified_name_.substr(1); }
   void note_port(std::string_view port, const std::string& topic, std::string_view type,
                  EndpointInfo::Kind kind, bool connected);
+  template <Message T>
+  Subscription<T>* subscribe(std::string_view port, const std::string& topic_name,
+                             SubscriptionQos qos, typename Subscription<T>::Callback callback) {
+    if (auto o = port_qos(port)) {
+      if (o->depth) qos.depth = *o->depth;
+      if (o->history) qos.history = *o->history;
+    }
+    auto topic = context_.graph->topic<T>(topic_name, PublisherQos{}.pool_size);
+    note_port(port, topic_name, T::kTypeName, EndpointInfo::Kind::kSubscription, topic.has_value());
+    if (!topic) {
+      errors_.push_back(qualified_name_ + "." + std::string(port) + ": " + topic.error());
+      return nullptr;
+    }
+    auto sub = std::make_unique<Subscription<T>>(std::move(topic).value(), qos, std::move(callback),
+                                                 *context_.callback_group, &active_);
+    Subscription<T>* raw = sub.get();
+    raw->set_trace_component(trace_name());
+    owned_.push_back(std::move(sub));
+    executables_.push_back(raw);
+    return raw;
+  }
 
   ComponentContext context_;
   std::string qualified_name_;

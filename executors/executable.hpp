@@ -46,7 +46,7 @@ class Executable {
   virtual int64_t wall_deadline_ns() const { return kNoDeadline; }
   virtual int64_t sim_deadline_ns() const { return kNoDeadline; }
 
-  // Trace names (set-up only; they allocate): the component ("r1/mapper"; empty: the
+  // Trace names (set-up only; they allocate): the component ("r1/tsdf_mapper"; empty: the
   // callback group's name stands for it) and what runs (a topic name, "timer 100ms").
   void set_trace_component(std::string component) { trace_component_ = std::move(component); }
   const std::string& trace_component() const { return trace_component_; }

@@ -41,7 +41,9 @@ std::vector<std::string> apply_launch_overrides(YAML::Node& root,
     if (components.IsSequence())
       for (size_t i = 0; i < components.size(); ++i) {
         YAML::Node c = components[i];
-        if (!c.IsMap() || !c["name"].IsScalar() || c["name"].Scalar() != name) continue;
+        // a component without a name: is named by its type
+        const YAML::Node named = c.IsMap() && c["name"].IsDefined() ? c["name"] : c["type"];
+        if (!c.IsMap() || !named.IsScalar() || named.Scalar() != name) continue;
         if (!c["params"].IsDefined() || c["params"].IsNull())
           c["params"] = YAML::Node(YAML::NodeType::Map);
         c["params"][key] = value;

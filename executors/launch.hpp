@@ -53,6 +53,12 @@ struct LaunchSettings {
   std::string security_keys;
 };
 
+// executor.type
+inline constexpr EnumNames<LaunchSettings::ExecutorType, 3> kExecutorTypeNames = {
+    {{LaunchSettings::ExecutorType::kSingleThreaded, "single_threaded"},
+     {LaunchSettings::ExecutorType::kMultiThreaded, "multi_threaded"},
+     {LaunchSettings::ExecutorType::kStep, "step"}}};
+
 // What the command line adds to a launch file.
 struct LaunchOptions {
   // "name.key=value": sets params.key of the component `name`, or key of the run / executor

@@ -62,9 +62,7 @@ void LaunchBuilder::merge(const ParamReader& reader) {
 
 void LaunchBuilder::read_settings(const YAML::Node& root, LaunchSettings& s) {
   ParamReader top = make_param_reader(root, file_, "(top level)");
-  std::string clock = "wall";
-  top.choice("clock", clock, {"wall", "sim"});
-  s.clock = clock == "sim" ? ClockType::kSim : ClockType::kWall;
+  top.choice("clock", s.clock, kClockTypeNames);
   // the sections below are read on their own; mark them known to the top level
   for (const char* section : {"executor", "run", "robots", "components", "security", "remap"}) {
     if (root[section].IsDefined() && root[section].IsScalar())
@@ -83,16 +81,12 @@ void LaunchBuilder::read_settings(const YAML::Node& root, LaunchSettings& s) {
   read_remap_map(root["remap"], "remap", remaps_);
 
   ParamReader exec = make_param_reader(root["executor"], file_, "executor");
-  std::string type = "single_threaded";
-  exec.choice("type", type, {"single_threaded", "multi_threaded", "step"});
+  exec.choice("type", s.executor, kExecutorTypeNames);
   uint64_t threads = 2;
   exec.optional("threads", threads, {1, 64});
   exec.optional("spin_us", s.spin_us, {0, 1e6});
   exec.finish();
   merge(exec);
-  s.executor = type == "step"             ? LaunchSettings::ExecutorType::kStep
-               : type == "multi_threaded" ? LaunchSettings::ExecutorType::kMultiThreaded
-                                          : LaunchSettings::ExecutorType::kSingleThreaded;
   s.threads = s.executor == LaunchSettings::ExecutorType::kMultiThreaded ? threads : 1;
   if (s.executor == LaunchSettings::ExecutorType::kStep && s.clock != ClockType::kSim)
     errors_.push_back(yaml_location(file_, root["executor"]) +
@@ -106,11 +100,12 @@ void LaunchBuilder::read_settings(const YAML::Node& root, LaunchSettings& s) {
   uint64_t robots = 0;
   run.optional("robots", robots, {0, 1e6});
   s.robots = robots;
-  compute_time_.clear();  // unset: decided once the components are known
+  compute_time_.reset();  // unset: decided once the components are known
   const YAML::Node run_node = root["run"];
   if (run_node.IsDefined() && run_node.IsMap() && run_node["compute_time"].IsDefined()) {
-    compute_time_ = "charged";
-    run.choice("compute_time", compute_time_, {"charged", "free"});
+    ComputeTime compute_time = ComputeTime::kCharged;
+    run.choice("compute_time", compute_time, kComputeTimeNames);
+    compute_time_ = compute_time;
   }
   run.optional("compute_scale", s.charge.scale, {1e-3, 1e3});
   uint64_t cores = 2;
@@ -127,11 +122,11 @@ void LaunchBuilder::read_settings(const YAML::Node& root, LaunchSettings& s) {
   if (root["security"].IsDefined() && !root["security"].IsNull() && s.security_keys.empty())
     errors_.push_back(yaml_location(file_, root["security"]) +
                       ": security.keys: the team's key folder (scancrew keys init DIR)");
-  if (compute_time_ == "charged" && s.executor != LaunchSettings::ExecutorType::kStep)
+  if (compute_time_ == ComputeTime::kCharged && s.executor != LaunchSettings::ExecutorType::kStep)
     errors_.push_back(yaml_location(file_, root["run"]) +
                       ": run.compute_time: 'charged' needs executor: {type: step} (sim time); "
                       "on the wall clock compute takes real time anyway");
-  if (compute_time_ == "charged" && options_.process != "run")
+  if (compute_time_ == ComputeTime::kCharged && options_.process != "run")
     errors_.push_back(yaml_location(file_, root["run"]) +
                       ": run.compute_time: 'charged' is for one process (scancrew run); a team "
                       "split over processes runs with compute free (docs/processes.md)");
@@ -170,7 +165,7 @@ void LaunchBuilder::read_robot_list(const YAML::Node& node) {
     RobotSpec robot;
     r.required("id", robot.id, {0, 1e6});
     r.required("namespace", robot.ns);
-    r.choice("kind", robot.kind, {"ground", "multirotor"});
+    r.choice("kind", robot.kind, robot::kRobotKindNames);
     std::vector<double> start;
     r.optional_list("start", start, 4, {-1e5, 1e5});  // x, y, z, yaw_deg
     if (start.size() == 4) {
@@ -213,8 +208,9 @@ void LaunchBuilder::read_components(const YAML::Node& node) {
     spec.path = "components[" + std::to_string(i) + "]";
     const YAML::Node& c = node[i];
     ParamReader r = make_param_reader(c, file_, spec.path);
-    r.required("name", spec.name);
     r.required("type", spec.type);
+    spec.name = spec.type;  // no name: the type's (one instance of it in the file)
+    r.optional("name", spec.name);
     r.optional("per_robot", spec.per_robot);
     read_processes(c, spec, r);
     known_subkeys(
@@ -222,13 +218,7 @@ void LaunchBuilder::read_components(const YAML::Node& node) {
         {"name", "type", "per_robot", "process", "params", "remap", "qos", "callback_group"});
     merge(r);
     if (!r.ok()) continue;
-    if (!valid_name(spec.name))
-      errors_.push_back(yaml_location(file_, c["name"]) + ": " + spec.path + ".name: '" +
-                        spec.name + "' is not a name; allowed: letters, digits, '_'");
-    if (const auto [it, fresh] = first_with_name.emplace(spec.name, i); !fresh)
-      errors_.push_back(yaml_location(file_, c["name"]) + ": " + spec.path + ".name: '" +
-                        spec.name + "' names components[" + std::to_string(it->second) +
-                        "] too; each component has a name of its own");
+    check_name(c, spec, i, first_with_name);
     if (registry.find(spec.type) == nullptr) {
       std::string known;
       for (const auto& t : registry.types()) known += (known.empty() ? "" : ", ") + t;
@@ -249,6 +239,21 @@ void LaunchBuilder::read_components(const YAML::Node& node) {
   if (errors_.empty() && specs_.empty())
     errors_.push_back(file_ + ": no component runs in the '" + options_.process +
                       "' process (components' process: keys)");
+}
+
+// A component's name (its type's where it gives none): a name, and one component's only.
+void LaunchBuilder::check_name(const YAML::Node& c, const ComponentSpec& spec, size_t index,
+                               std::map<std::string, size_t>& first_with_name) {
+  const bool named = c["name"].IsDefined();
+  const std::string where = yaml_location(file_, named ? c["name"] : c["type"]) + ": " + spec.path +
+                            (named ? ".name" : " (no name: its type's)");
+  if (!valid_name(spec.name))
+    errors_.push_back(where + ": '" + spec.name + "' is not a name; allowed: letters, digits, '_'");
+  if (const auto [it, fresh] = first_with_name.emplace(spec.name, index); !fresh)
+    errors_.push_back(where + ": '" + spec.name + "' names components[" +
+                      std::to_string(it->second) +
+                      "] too; each component has a name of its own (two components of one "
+                      "type need distinct name: keys)");
 }
 
 // process: a command name or a list of them; default [run, robot] (per-robot) or [run].
@@ -291,12 +296,9 @@ void LaunchBuilder::read_group(const YAML::Node& node, ComponentSpec& spec) {
   if (!node.IsDefined() || node.IsNull()) return;
   ParamReader r = make_param_reader(node, file_, spec.path + ".callback_group");
   r.required("name", spec.group_name);
-  std::string type = "mutually_exclusive";
-  r.choice("type", type, {"mutually_exclusive", "reentrant"});
+  r.choice("type", spec.group_type, kCallbackGroupTypeNames);
   r.finish();
   merge(r);
-  spec.group_type = type == "reentrant" ? CallbackGroup::Type::kReentrant
-                                        : CallbackGroup::Type::kMutuallyExclusive;
 }
 
 void LaunchBuilder::read_remaps(const YAML::Node& node, ComponentSpec& spec) {
@@ -334,19 +336,17 @@ void LaunchBuilder::read_qos(const YAML::Node& node, ComponentSpec& spec) {
     ParamReader r = make_param_reader(kv.second, file_, spec.path + ".qos." + port);
     PortQos q;
     uint64_t pool = 0, depth = 0;
-    std::string history;
     r.optional("pool_size", pool, {1, 1e6});
     r.optional("depth", depth, {1, 1e6});
     if (kv.second.IsMap() && kv.second["history"].IsDefined()) {
-      history = "keep_last";
-      r.choice("history", history, {"keep_last", "fail_fast"});
+      History history = History::kKeepLast;
+      r.choice("history", history, kHistoryNames);
+      q.history = history;
     }
     r.finish();
     merge(r);
     if (pool) q.pool_size = pool;
     if (depth) q.depth = depth;
-    if (!history.empty())
-      q.history = history == "fail_fast" ? History::kFailFast : History::kKeepLast;
     spec.qos[port] = q;
   }
 }

@@ -5,6 +5,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -48,6 +49,8 @@ class LaunchBuilder {
   void read_robot_list(const YAML::Node& node);
   static bool valid_name(const std::string& s);
   void read_components(const YAML::Node& node);
+  void check_name(const YAML::Node& c, const ComponentSpec& spec, size_t index,
+                  std::map<std::string, size_t>& first_with_name);
   void read_processes(const YAML::Node& c, ComponentSpec& spec, ParamReader& r);
   void known_subkeys(const YAML::Node& c, const std::string& path,
                      std::initializer_list<std::string_view> allowed);
@@ -72,6 +75,7 @@ class LaunchBuilder {
                         std::vector<Pending>& created);
   // Configures every instance, checks its remaps and the graph; errors collected.
   void configure_instances(Launch& launch, std::vector<Pending>& created);
+  void check_launch_remaps(const std::vector<Pending>& created);
   // Makes the launch's executor with the instances' executables; the launch takes the instances.
   void add_executor(Launch& launch, std::vector<Pending>& created);
 
@@ -79,7 +83,7 @@ class LaunchBuilder {
   LaunchOptions options_;
   std::vector<std::string> errors_;
   std::set<std::string> top_known_;
-  std::string compute_time_;  // run.compute_time as the file (or --set) gives it; "" unset
+  std::optional<ComputeTime> compute_time_;  // run.compute_time as the file (or --set) gives it
   std::vector<RobotSpec> robots_;
   std::vector<ComponentSpec> specs_;
   // the launch's own remap: every component with the port takes it, unless its own remap

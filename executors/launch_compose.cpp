@@ -5,6 +5,7 @@
 #include <map>
 
 #include "executors/launch_builder.hpp"
+#include "executors/log.hpp"
 #include "executors/registry.hpp"
 
 namespace scancrew {
@@ -126,10 +127,29 @@ void LaunchBuilder::configure_instances(Launch& launch, std::vector<Pending>& cr
                         "'; its ports: " + (list.empty() ? "(none)" : list));
     }
   }
+  check_launch_remaps(created);
   // a remap error is reported once per spec, not once per robot
   std::sort(errors_.begin(), errors_.end());
   errors_.erase(std::unique(errors_.begin(), errors_.end()), errors_.end());
   for (const std::string& e : launch.graph_->check().errors) errors_.push_back(file_ + ": " + e);
+}
+
+void LaunchBuilder::check_launch_remaps(const std::vector<Pending>& created) {
+  // the launch's own remap applies to every component with the port: one that no component
+  // has does nothing: a misspelt port, or a graph that reads none (a test's part of a graph;
+  // a process of a team split over processes holds part of it, so only the whole graph is
+  // checked). A warning, not an error: such a launch runs as written
+  if (options_.process != "run") return;
+  for (const auto& remap : remaps_) {
+    const std::string& port = remap.first;
+    const bool used = std::any_of(created.begin(), created.end(), [&](const Pending& p) {
+      const auto& ports = p.component->ports();
+      return std::find(ports.begin(), ports.end(), port) != ports.end();
+    });
+    if (!used)
+      SCANCREW_LOG_WARN("%s: remap.%s: no component has port '%s'; the remap does nothing",
+                        file_.c_str(), port.c_str(), port.c_str());
+  }
 }
 
 void LaunchBuilder::add_executor(Launch& launch, std::vector<Pending>& created) {
@@ -139,10 +159,8 @@ void LaunchBuilder::add_executor(Launch& launch, std::vector<Pending>& created) 
     const bool mission = std::any_of(specs_.begin(), specs_.end(), [](const ComponentSpec& c) {
       return c.type == "mission_monitor";
     });
-    s.compute_time = compute_time_ == "charged" ||
-                             (compute_time_.empty() && mission && options_.process == "run")
-                         ? ComputeTime::kCharged
-                         : ComputeTime::kFree;
+    s.compute_time = compute_time_.value_or(
+        mission && options_.process == "run" ? ComputeTime::kCharged : ComputeTime::kFree);
     launch.step_executor_ = std::make_unique<StepExecutor>(static_cast<SimClock&>(*launch.clock_));
     launch.step_executor_->set_compute_time(s.compute_time, s.charge);
     std::map<std::string, int> places;

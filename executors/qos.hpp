@@ -6,12 +6,16 @@
 #include <cstddef>
 #include <string_view>
 
+#include "core/enum_names.hpp"
+
 namespace scancrew {
 
 enum class History {
   kKeepLast,  // a full queue drops its oldest sample to take the new one (counted as a drop)
   kFailFast,  // publish() fails with PublishError::kQueueFull and delivers to nobody
 };
+inline constexpr EnumNames<History, 2> kHistoryNames = {
+    {{History::kKeepLast, "keep_last"}, {History::kFailFast, "fail_fast"}}};
 std::string_view to_string(History history);
 
 struct PublisherQos {

@@ -15,7 +15,7 @@ namespace scancrew {
 struct RunSummary {
   // A map a mapper keeps (tsdf_mapper): where its outputs went and what it sent.
   struct Map {
-    std::string component;  // the instance name, e.g. "mapper"
+    std::string component;  // the instance name, e.g. "tsdf_mapper"
     uint32_t robot_id = 0;  // 0 for a station's
     std::string mode;       // single | centralized | distributed
     std::string mesh_path, octomap_path;

@@ -17,7 +17,7 @@ bool later(const auto& a, const auto& b) {
 }  // namespace
 
 std::string_view to_string(ComputeTime mode) {
-  return mode == ComputeTime::kCharged ? "charged" : "free";
+  return name_of(kComputeTimeNames, mode);
 }
 
 StepExecutor::~StepExecutor() {

@@ -34,6 +34,9 @@
 namespace scancrew {
 
 enum class ComputeTime { kFree, kCharged };
+// run.compute_time: charged | free
+inline constexpr EnumNames<ComputeTime, 2> kComputeTimeNames = {
+    {{ComputeTime::kCharged, "charged"}, {ComputeTime::kFree, "free"}}};
 std::string_view to_string(ComputeTime mode);
 
 // The computers a charged run models: each place has `cores` cores and is `scale` times

@@ -39,13 +39,7 @@ std::string_view to_string(PublishError error) {
 }
 
 std::string_view to_string(History history) {
-  switch (history) {
-    case History::kKeepLast:
-      return "keep_last";
-    case History::kFailFast:
-      return "fail_fast";
-  }
-  return "?";
+  return name_of(kHistoryNames, history);
 }
 
 TopicStats TopicBase::base_stats() const {

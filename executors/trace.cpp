@@ -30,7 +30,7 @@ uint32_t thread_number() {
   return number;
 }
 
-// "r1/mapper" -> "r1"; "simulator" -> "" (a component of the whole team).
+// "r1/tsdf_mapper" -> "r1"; "simulator" -> "" (a component of the whole team).
 std::string namespace_of(const std::string& component) {
   const size_t slash = component.rfind('/');
   return slash == std::string::npos ? std::string() : component.substr(0, slash);

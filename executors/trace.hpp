@@ -46,7 +46,7 @@ struct TraceEvent {
 
 // The compute time of one component's callbacks.
 struct ComponentTime {
-  std::string component;  // "r1/mapper"
+  std::string component;  // "r1/tsdf_mapper"
   uint64_t callbacks = 0;
   double total_ms = 0;
   double p50_ms = 0, p99_ms = 0;  // per callback

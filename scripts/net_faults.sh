@@ -115,7 +115,7 @@ for p in "${places[@]}"; do
 done
 
 net=(--set "sim_bridge.transport=udp" --set "sim_bridge.initial_peers=$peers"
-     --set "bridge.transport=udp" --set "bridge.initial_peers=$peers")
+     --set "dds_bridge.transport=udp" --set "dds_bridge.initial_peers=$peers")
 ip netns exec "$tag-sim" "$bin" sim "$launch" --out "$out" "${net[@]}" "${extra[@]}" \
   >"$out/sim.log" 2>&1 &
 sim_pid=$!
@@ -194,7 +194,7 @@ wait 2>/dev/null
 {
   echo "fault: $fault; wall $((SECONDS - start)) s; simulator exit status $sim_status"
   tr '\r' '\n' <"$out/sim.log" | grep -E "^mission (complete|out of time|stalled)" | tail -n 1
-  grep -h "mapper: patches" "$out"/robot_*.log
+  grep -h "tsdf_mapper: patches" "$out"/robot_*.log
 } | tee -a "$out/faults.txt"
 # every robot holds the same patches: held = made + received (duplicates counted apart, so a
 # patch is never held twice); a rebooted robot's "made" counts its new process's only, so
@@ -202,7 +202,7 @@ wait 2>/dev/null
 total=0
 declare -A made received
 for k in $robots; do
-  line=$(grep -h "/r$k/mapper: patches" "$out/robot_$k.log" | tail -n 1)
+  line=$(grep -h "/r$k/tsdf_mapper: patches" "$out/robot_$k.log" | tail -n 1)
   made[$k]=$(sed -n 's/.*patches: \([0-9]*\) made.*/\1/p' <<<"$line")
   received[$k]=$(sed -n 's/.*, \([0-9]*\) received,.*/\1/p' <<<"$line")
   [ -n "${made[$k]}" ] || { echo "net_faults.sh: robot $k wrote no mapper summary" | tee -a "$out/faults.txt"; exit 1; }

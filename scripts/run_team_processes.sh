@@ -11,7 +11,7 @@
 #     --bin PATH         the scancrew binary (default: build/release/cli/scancrew)
 #     --secure           DDS-Security: a team key folder OUT/keys (scancrew keys init, then
 #                        keys add for every place started) and --set security.keys=OUT/keys
-#   Everything after -- goes to every process (e.g. --set bridge.link_loss_rate=0.2).
+#   Everything after -- goes to every process (e.g. --set dds_bridge.link_loss_rate=0.2).
 # Exit status: the simulator's (0: it wrote its run directory), 124 on timeout.
 set -u
 launch=${1:?usage: run_team_processes.sh LAUNCH OUT [options]}

@@ -20,7 +20,7 @@ max_slope_mib_per_h=2
 [ -x "$bin" ] || ./scripts/build.sh release
 mkdir -p "$out"
 "$bin" run "$mission" --out "$out" --trace-events 0 --set run.duration_s="$sim_s" \
-  --set monitor.stop_when_complete=false --set monitor.stall_timeout_s=0 \
+  --set mission_monitor.stop_when_complete=false --set mission_monitor.stall_timeout_s=0 \
   >"$out/soak.log" 2>&1 &
 pid=$!
 trap 'kill "$pid" 2>/dev/null' INT TERM

@@ -19,8 +19,7 @@ robots:
   - {id: 1, namespace: %s, kind: ground, start: [-7.5, -1.8, 0, 0]}
 remap: {pose: pose_gt}
 components:
-  - name: sim
-    type: team_simulator
+  - type: team_simulator
     per_robot: false
     params:
       scene: %s

@@ -138,10 +138,9 @@ std::string launch_text(uint32_t robot, const PairSetup& s) {
   return "clock: wall\nexecutor: {type: single_threaded}\nrun: {duration_s: 0}\n" + security +
          "robots:\n  - {id: " + std::to_string(robot) + ", namespace: r" + std::to_string(robot) +
          "}\ncomponents:\n" +
-         (sender ? "  - {name: source, type: bench_dds_source}\n"
-                 : "  - {name: sink, type: bench_dds_sink}\n") +
-         "  - name: bridge\n    type: dds_bridge\n    params: {domain_id: " +
-         std::to_string(s.domain_id) + ", partitions: [" + s.partition +
+         (sender ? "  - {type: bench_dds_source}\n" : "  - {type: bench_dds_sink}\n") +
+         "  - type: dds_bridge\n    params: {domain_id: " + std::to_string(s.domain_id) +
+         ", partitions: [" + s.partition +
          "], transport: loopback, intraprocess: false, team_ids: [1, 2], " +
          (sender ? "export_topics" : "import_topics") +
          ": [patch], type_patch: scancrew/TsdfPatch, depth_patch: " + std::to_string(s.depth) +

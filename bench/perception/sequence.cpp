@@ -19,11 +19,9 @@ std::string launch_text(const SequenceOptions& o) {
   std::snprintf(rest, sizeof rest, R"(      publish_depth_gt: true
       ground_camera_rate_hz: 10
       imu_rate_hz: 100
-  - name: driver
-    type: waypoint_driver
+  - type: waypoint_driver
     params: {waypoints_m: %s, speed_mps: %.2f, stop_after_m: %.3f}
-  - name: recorder
-    type: recorder
+  - type: recorder
     params: {path: %s, topics: [stereo, imu, pose_gt, depth_gt], queue_depth: 256}
 )",
                 kParkingLotLoop, speed, o.distance_m, o.out_path.c_str());

@@ -39,7 +39,7 @@ std::string topic_of(std::string_view port) {
   return name;
 }
 
-// "r1/stereo" (the Tracer's name) for the instance "stereo"
+// "r1/stereo_depth" (the Tracer's name) for the instance "stereo_depth"
 std::string traced(std::string_view instance) {
   std::string name(kNs);
   name += '/';
@@ -78,7 +78,7 @@ uint64_t callbacks_of(const Tracer& tracer, const std::string& component) {
 // kDrainPollS. False on timeout.
 bool wait_drained(Launch& launch, uint64_t published) {
   const Tracer& tracer = *launch.tracer();
-  const std::string stereo = traced("stereo"), mapper = traced("mapper");
+  const std::string stereo = traced("stereo_depth"), mapper = traced("tsdf_mapper");
   const std::string stereo_topic = topic_of("stereo"), depth_topic = topic_of("depth");
   const auto deadline = Clock::now() + std::chrono::duration<double>(kDrainTimeoutS);
   uint64_t last = UINT64_MAX;
@@ -147,11 +147,9 @@ Result<std::vector<FrameCapture::Pair>, std::string> capture(const PipelineBench
   const double duration = frames / o.nominal_rate_hz + 10.0;
   char rest[512];
   std::snprintf(rest, sizeof rest, R"(      ground_camera_rate_hz: %.6f
-  - name: driver
-    type: waypoint_driver
+  - type: waypoint_driver
     params: {waypoints_m: %s, loop: true, speed_mps: %.2f}
-  - name: capture
-    type: bench_frame_capture
+  - type: bench_frame_capture
     per_robot: false
     params: {robot_ns: %s, frames: %u}
 )",
@@ -204,15 +202,15 @@ void add_figures(Trial& t, const Tracer& tracer, Graph& graph, const PipelinePro
   };
   // the mapper integrates every depth image and publishes every snapshot_every-th: its
   // callback figures are per image, its latencies per snapshot
-  t.stages.push_back(stage("stereo_depth", traced("stereo"), topic_of("stereo"), "pair",
+  t.stages.push_back(stage("stereo_depth", traced("stereo_depth"), topic_of("stereo"), "pair",
                            probe.depth(), capture_at));
   t.stages.back().callback_ms =
-      figures(longest_callbacks_ms(tracer, traced("stereo"), probe.depth().size()));
-  t.stages.push_back(stage("tsdf_mapper", traced("mapper"), topic_of("depth"), "snapshot",
+      figures(longest_callbacks_ms(tracer, traced("stereo_depth"), probe.depth().size()));
+  t.stages.push_back(stage("tsdf_mapper", traced("tsdf_mapper"), topic_of("depth"), "snapshot",
                            probe.maps(), depth_at));
-  t.stages.push_back(
-      stage("ise_extractor", traced("ise"), topic_of("map"), "ISE run", probe.clusters(), map_at));
-  t.stages.push_back(stage("high_level_planner", "planner", topic_of("clusters"), "plan",
+  t.stages.push_back(stage("ise_extractor", traced("ise_extractor"), topic_of("map"), "ISE run",
+                           probe.clusters(), map_at));
+  t.stages.push_back(stage("high_level_planner", "high_level_planner", topic_of("clusters"), "plan",
                            probe.plans(), clusters_at));
   t.end_to_end_ms = t.stages.back().from_capture_ms;
 }
@@ -223,8 +221,8 @@ Result<Trial, std::string> run_trial(const PipelineBenchOptions& o, const ImageS
                                      std::span<const FrameCapture::Pair> pairs, double rate_hz) {
   LaunchOptions lo;
   lo.overrides = {"executor.threads=" + std::to_string(o.threads),
-                  "stereo.num_disparities=" + std::to_string(size.num_disparities()),
-                  "probe.capacity=" + std::to_string(pairs.size() + 16)};
+                  "stereo_depth.num_disparities=" + std::to_string(size.num_disparities()),
+                  "bench_pipeline_probe.capacity=" + std::to_string(pairs.size() + 16)};
   lo.overrides.insert(lo.overrides.end(), o.sets.begin(), o.sets.end());
   auto made = Launch::from_file(o.launch_path, lo);
   if (!made) return make_unexpected(join_errors(made.error()));

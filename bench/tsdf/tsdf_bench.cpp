@@ -90,7 +90,11 @@ Result<SystemRun, std::string> run_scancrew(const DepthSequence& seq, const Case
   config.min_range_m = seq.min_range_m;
   config.max_range_m = c.range_m;
   if (weight.w_th > 0) config.w_th = weight.w_th;
-  if (!weight.weight.empty()) config.weight = weight.weight;
+  if (!weight.weight.empty()) {
+    const auto named = value_of(tsdf::kTsdfWeightNames, weight.weight);
+    if (!named) return make_unexpected(std::string("weight must be inverse_square or constant"));
+    config.weight = *named;
+  }
   if (const std::string problem = config.validate(); !problem.empty())
     return make_unexpected(problem);
   tsdf::TsdfMap map(config);
@@ -271,12 +275,14 @@ Json header(const Setup& b, const std::string& scene_name) {
                          {"density_per_m2", o.density_per_m2},
                          {"seed", o.seed}};
   tsdf::TsdfConfig defaults;
-  out["scancrew_tsdf"] = {{"weight", o.weight.empty() ? defaults.weight : o.weight},
-                          {"w_th", o.w_th > 0 ? o.w_th : defaults.w_th},
-                          {"max_weight", defaults.max_weight},
-                          {"tile_px", defaults.tile_px},
-                          {"truncation_voxels", 3},
-                          {"mesh_min_weight", tsdf::MesherConfig{}.min_weight}};
+  out["scancrew_tsdf"] = {
+      {"weight",
+       o.weight.empty() ? std::string(name_of(tsdf::kTsdfWeightNames, defaults.weight)) : o.weight},
+      {"w_th", o.w_th > 0 ? o.w_th : defaults.w_th},
+      {"max_weight", defaults.max_weight},
+      {"tile_px", defaults.tile_px},
+      {"truncation_voxels", 3},
+      {"mesh_min_weight", tsdf::MesherConfig{}.min_weight}};
   if (o.mesh_min_weight > 0) out["scancrew_tsdf"]["mesh_min_weight"] = o.mesh_min_weight;
   out["load_average_1min"] = Json::array({load_average()});
   out["sequences"] = Json::array();

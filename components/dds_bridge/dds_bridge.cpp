@@ -46,7 +46,7 @@ Result<void, std::string> DdsBridge::on_configure() {
   for (const BridgedTopic& spec : config_.topics)
     if (auto added = add_topic(spec); !added) return added;
   data_readers_.store(topic_of_reader_.size());
-  if (config_.lockstep != "none")
+  if (config_.lockstep != LockstepRole::kNone)
     if (auto sync = make_lockstep(); !sync) return sync;
   create_lost_publishers();
   create_timer(std::chrono::nanoseconds(std::llround(config_.poll_period_s * 1e9)),
@@ -259,7 +259,8 @@ Result<void, std::string> DdsBridge::add_topic(const BridgedTopic& spec) {
   state.spec = spec;
   // lockstep: a reader that matches after the first samples were written still gets them
   // (its `depth` last), so that every process sees the same samples from the first step
-  if (config_.lockstep != "none" && spec.qos.reliable) state.spec.qos.transient_local = true;
+  if (config_.lockstep != LockstepRole::kNone && spec.qos.reliability == Reliability::kReliable)
+    state.spec.qos.transient_local = true;
   const std::string dds_topic = dds_topic_name(config_.dds_prefix, spec.name);
   state.topic_key = LinkModel::topic_key(dds_topic);
   const std::string port = local_port(spec);

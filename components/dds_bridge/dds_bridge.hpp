@@ -73,6 +73,13 @@ struct BridgedTopic {
   bool lossy = true;  // the link model's loss applies (link_loss_topics)
 };
 
+// lockstep: none | leader (the simulator) | follower (robots, station)
+enum class LockstepRole : uint8_t { kNone, kLeader, kFollower };
+inline constexpr EnumNames<LockstepRole, 3> kLockstepRoleNames = {
+    {{LockstepRole::kNone, "none"},
+     {LockstepRole::kLeader, "leader"},
+     {LockstepRole::kFollower, "follower"}}};
+
 class DdsBridge final : public Component {
  public:
   static constexpr std::string_view kDescription =
@@ -80,8 +87,8 @@ class DdsBridge final : public Component {
       "model, counters and robot-loss reports";
   struct Config {
     uint32_t domain_id = 0;
-    std::vector<std::string> partitions;  // DDS partitions; empty: the default partition
-    std::string transport = "loopback";   // loopback | shm | udp | builtin (dds_link.hpp)
+    std::vector<std::string> partitions;         // DDS partitions; empty: the default partition
+    Transport transport = Transport::kLoopback;  // (dds_link.hpp)
     std::vector<std::string> initial_peers;
     uint32_t initial_peers_range = 32;        // participants per peer host reached by unicast
     bool intraprocess = true;                 // false: Fast DDS's in-process shortcut off (tests)
@@ -98,7 +105,7 @@ class DdsBridge final : public Component {
     // the id in this bridge's envelopes; -1: its robot's id (0 for a station)
     int64_t bridge_id = -1;
     uint32_t simulator_id = 65535;  // the simulator process's bridge id (in the default team)
-    std::string lockstep = "none";  // none | leader (the simulator) | follower (robots, station)
+    LockstepRole lockstep = LockstepRole::kNone;
     std::vector<uint32_t> lockstep_followers;  // leader: who follows; empty: the launch's robots
     double lockstep_timeout_s = 120.0;         // wall seconds a step may wait for a peer, then stop
     LinkConfig link;

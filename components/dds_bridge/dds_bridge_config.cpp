@@ -70,9 +70,7 @@ void read_topics(ParamReader& p, const char* list_key, bool exported,
 // match on both sides of a topic).
 void read_topic_params(ParamReader& p, BridgedTopic& t) {
   p.optional("type_" + t.key, t.type_name);
-  std::string reliability = t.qos.reliable ? "reliable" : "best_effort";
-  p.choice("qos_" + t.key, reliability, {"reliable", "best_effort"});
-  t.qos.reliable = reliability == "reliable";
+  p.choice("qos_" + t.key, t.qos.reliability, kReliabilityNames);
   p.optional("depth_" + t.key, t.qos.depth, {1, 400});
   p.optional("transient_local_" + t.key, t.qos.transient_local);
 }
@@ -93,7 +91,7 @@ DdsBridge::Config DdsBridge::read_config(ParamReader& p) {
   Config c;
   p.optional("domain_id", c.domain_id, {0, 232});
   p.optional_list("partitions", c.partitions);
-  p.choice("transport", c.transport, {"loopback", "shm", "udp", "builtin"});
+  p.choice("transport", c.transport, kTransportNames);
   p.optional_list("initial_peers", c.initial_peers);
   p.optional("initial_peers_range", c.initial_peers_range, {1, 120});
   p.optional("intraprocess", c.intraprocess);
@@ -124,7 +122,7 @@ DdsBridge::Config DdsBridge::read_config(ParamReader& p) {
   // 4294967295 is kUnknownSender (a participant that announced no id)
   p.optional("bridge_id", c.bridge_id, {-1, 4294967294.0});
   p.optional("simulator_id", c.simulator_id, {1, 4294967294.0});
-  p.choice("lockstep", c.lockstep, {"none", "leader", "follower"});
+  p.choice("lockstep", c.lockstep, kLockstepRoleNames);
   read_robot_ids(p, "lockstep_followers", c.lockstep_followers);
   p.optional("lockstep_timeout_s", c.lockstep_timeout_s, {0.1, 86400});
 

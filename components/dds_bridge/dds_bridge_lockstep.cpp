@@ -190,7 +190,7 @@ class DdsBridge::Lockstep final : public StepGate {
   std::vector<msg::StepMark> own_marks() const {
     std::vector<msg::StepMark> marks;
     for (const TopicState& t : b_.topics_)
-      if (t.spec.exported && t.spec.qos.reliable)
+      if (t.spec.exported && t.spec.qos.reliability == Reliability::kReliable)
         marks.push_back({.robot_id = b_.self_id_, .topic_key = t.topic_key, .seq = t.seq});
     return marks;
   }
@@ -267,7 +267,7 @@ class DdsBridge::Lockstep final : public StepGate {
 };
 
 Result<void, std::string> DdsBridge::make_lockstep() {
-  const bool leader = config_.lockstep == "leader";
+  const bool leader = config_.lockstep == LockstepRole::kLeader;
   if (leader && self_id_ != config_.simulator_id)
     return make_unexpected(qualified_name() + ": lockstep: leader: its bridge_id (" +
                            std::to_string(self_id_) + ") must be simulator_id (" +
@@ -279,7 +279,8 @@ Result<void, std::string> DdsBridge::make_lockstep() {
   std::vector<uint32_t> followers = config_.lockstep_followers;
   if (followers.empty())
     for (const TeamMember& m : team()) followers.push_back(m.id);
-  const DdsTopicQos qos{.reliable = true, .depth = 64, .transient_local = true};
+  const DdsTopicQos qos{
+      .reliability = Reliability::kReliable, .depth = 64, .transient_local = true};
   auto writer = link_->add_writer(std::string(kLockstepTopic), qos);
   if (!writer) return make_unexpected(qualified_name() + ": " + writer.error());
   auto reader = link_->add_reader(std::string(kLockstepTopic), qos);
@@ -324,7 +325,8 @@ bool DdsBridge::held_back(Incoming& in) {
   if (!lockstep_) return false;
   in.arrival_ns = clock().now_ns();
   const TopicState& t = topics_[topic_of_reader_.at(in.topic)];
-  if (!t.spec.qos.reliable || in.envelope.robot_id == self_id_) return false;
+  if (t.spec.qos.reliability != Reliability::kReliable || in.envelope.robot_id == self_id_)
+    return false;
   // a sample whose sender or robot id is refused is not held (it would wait for a release
   // that never comes, for ever): admit() counts and drops it now
   if (in.oversize || in.envelope.sender_robot_id != in.envelope.robot_id ||

@@ -182,8 +182,9 @@ class PresenceListener final : public fdds::DataReaderListener {
 
 fdds::DataWriterQos writer_qos(fdds::Publisher* publisher, const DdsTopicQos& qos) {
   fdds::DataWriterQos w = publisher->get_default_datawriter_qos();
-  w.reliability().kind =
-      qos.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+  w.reliability().kind = qos.reliability == Reliability::kReliable
+                             ? fdds::RELIABLE_RELIABILITY_QOS
+                             : fdds::BEST_EFFORT_RELIABILITY_QOS;
   w.durability().kind =
       qos.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
   w.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
@@ -202,8 +203,9 @@ fdds::DataWriterQos writer_qos(fdds::Publisher* publisher, const DdsTopicQos& qo
 
 fdds::DataReaderQos reader_qos(fdds::Subscriber* subscriber, const DdsTopicQos& qos) {
   fdds::DataReaderQos r = subscriber->get_default_datareader_qos();
-  r.reliability().kind =
-      qos.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+  r.reliability().kind = qos.reliability == Reliability::kReliable
+                             ? fdds::RELIABLE_RELIABILITY_QOS
+                             : fdds::BEST_EFFORT_RELIABILITY_QOS;
   r.durability().kind =
       qos.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
   r.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
@@ -245,21 +247,25 @@ void set_participant_lease(fdds::DomainParticipantQos& pqos, double liveliness_l
 // Adds the configured transport and the initial peers to the participant's QoS.
 Result<void, std::string> add_transports(fdds::DomainParticipantQos& pqos,
                                          const DdsLinkConfig& config) {
-  const std::string& t = config.transport;
-  if (t != "builtin") pqos.transport().use_builtin_transports = false;
-  if (t == "loopback") {
-    add_udp(pqos, true, config.initial_peers_range);
-    add_peer(pqos, "127.0.0.1");
-  } else if (t == "shm") {
-    auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
-    shm->maxInitialPeersRange = config.initial_peers_range;
-    pqos.transport().user_transports.push_back(shm);
-    add_udp(pqos, true, config.initial_peers_range);
-    add_peer(pqos, "127.0.0.1");
-  } else if (t == "udp") {
-    add_udp(pqos, false, config.initial_peers_range);
-  } else if (t != "builtin") {
-    return make_unexpected("unknown transport '" + t + "' (loopback | shm | udp | builtin)");
+  if (config.transport != Transport::kBuiltin) pqos.transport().use_builtin_transports = false;
+  switch (config.transport) {
+    case Transport::kLoopback:
+      add_udp(pqos, true, config.initial_peers_range);
+      add_peer(pqos, "127.0.0.1");
+      break;
+    case Transport::kShm: {
+      auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
+      shm->maxInitialPeersRange = config.initial_peers_range;
+      pqos.transport().user_transports.push_back(shm);
+      add_udp(pqos, true, config.initial_peers_range);
+      add_peer(pqos, "127.0.0.1");
+      break;
+    }
+    case Transport::kUdp:
+      add_udp(pqos, false, config.initial_peers_range);
+      break;
+    case Transport::kBuiltin:
+      break;
   }
   for (const std::string& peer : config.initial_peers) {
     if (!rtps::IPLocator::isIPv4(peer))
@@ -292,7 +298,8 @@ Result<void, std::string> create_presence(DdsLink::Impl& m, const DdsLinkConfig&
   // presence: reliable, transient-local, AUTOMATIC liveliness with the configured lease
   auto topic = m.topic(std::string(kPresenceTopic));
   if (!topic) return make_unexpected(topic.error());
-  const DdsTopicQos presence{.reliable = true, .depth = 1, .transient_local = true};
+  const DdsTopicQos presence{
+      .reliability = Reliability::kReliable, .depth = 1, .transient_local = true};
   fdds::DataWriterQos wq = writer_qos(m.publisher, presence);
   wq.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS;
   wq.liveliness().lease_duration = duration(config.liveliness_lease_s);
@@ -345,7 +352,7 @@ Result<std::unique_ptr<DdsLink>, std::string> DdsLink::create(const DdsLinkConfi
   if (impl->participant == nullptr)
     return make_unexpected(
         "cannot create a DDS participant on domain " + std::to_string(config.domain_id) +
-        " (transport " + config.transport + ")" +
+        " (transport " + std::string(name_of(kTransportNames, config.transport)) + ")" +
         (config.security_properties.empty()
              ? std::string()
              : std::string("; with DDS-Security: a certificate, key, governance or permissions "

@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/enum_names.hpp"
 #include "core/result.hpp"
 
 namespace scancrew::dds_bridge {
@@ -36,18 +37,29 @@ inline constexpr std::string_view kPresenceType = "scancrew/Presence";
 // split over processes.
 inline constexpr std::string_view kLockstepTopic = "sc/_lockstep";
 
+// qos_<topic>: reliable | best_effort
+enum class Reliability : uint8_t { kReliable, kBestEffort };
+inline constexpr EnumNames<Reliability, 2> kReliabilityNames = {
+    {{Reliability::kReliable, "reliable"}, {Reliability::kBestEffort, "best_effort"}}};
+
 struct DdsTopicQos {
-  bool reliable = true;          // reliable or best effort
+  Reliability reliability = Reliability::kReliable;
   uint32_t depth = 10;           // keep-last history depth (writer and reader)
   bool transient_local = false;  // a late joiner gets the last `depth` samples
 };
 
+// loopback: UDPv4 on 127.0.0.1 only (tests, one machine); shm: shared memory plus UDPv4
+// loopback; udp: UDPv4 on every interface; builtin: Fast DDS's defaults (SHM + UDPv4).
+enum class Transport : uint8_t { kLoopback, kShm, kUdp, kBuiltin };
+inline constexpr EnumNames<Transport, 4> kTransportNames = {{{Transport::kLoopback, "loopback"},
+                                                             {Transport::kShm, "shm"},
+                                                             {Transport::kUdp, "udp"},
+                                                             {Transport::kBuiltin, "builtin"}}};
+
 struct DdsLinkConfig {
   uint32_t domain_id = 0;
   std::vector<std::string> partitions;  // DDS partitions of every writer and reader
-  // loopback: UDPv4 on 127.0.0.1 only (tests, one machine); shm: shared memory plus UDPv4
-  // loopback; udp: UDPv4 on every interface; builtin: Fast DDS's defaults (SHM + UDPv4).
-  std::string transport = "loopback";
+  Transport transport = Transport::kLoopback;
   std::vector<std::string> initial_peers;  // IPv4 addresses for unicast discovery
   // participants per initial peer (and on loopback) that unicast discovery reaches: Fast DDS
   // numbers the participants of a host 0, 1, 2, ... (never reusing a number in a process)

@@ -27,20 +27,20 @@ Result<void, std::string> DepthMask::on_configure() {
     if (m.id == robot_id()) continue;
     Teammate t;
     t.ns = m.ns;
-    const bool ground = m.kind == "ground";
+    const bool ground = m.kind == robot::RobotKind::kGround;
     const std::vector<double>& size = ground ? config_.ground_body_m : config_.multirotor_body_m;
     for (size_t i = 0; i < 3; ++i) t.half[i] = 0.5 * size[i] + config_.margin_m;
     t.center = {0, 0, ground ? 0.5 * size[2] : 0};
     teammates_.push_back(t);
   }
   for (size_t i = 0; i < teammates_.size(); ++i)
-    create_subscription<msg::Odometry>(resolve_in("pose", teammates_[i].ns), {.depth = 4},
-                                       [this, i](Sample<msg::Odometry>&& pose) {
-                                         if (pose->tracking_quality <= 0)
-                                           return;  // a lost teammate keeps its last pose
-                                         teammates_[i].T_world_body = pose->T_world_body;
-                                         teammates_[i].stamp_ns = pose->header.stamp_ns;
-                                       });
+    create_teammate_subscription<msg::Odometry>("pose", teammates_[i].ns, {.depth = 4},
+                                                [this, i](Sample<msg::Odometry>&& pose) {
+                                                  if (pose->tracking_quality <= 0)
+                                                    return;  // a lost teammate keeps its last pose
+                                                  teammates_[i].T_world_body = pose->T_world_body;
+                                                  teammates_[i].stamp_ns = pose->header.stamp_ns;
+                                                });
   out_ = create_publisher<msg::DepthImage>("depth_masked");
   create_subscription<msg::DepthImage>(
       "depth", {.depth = 4}, [this](Sample<msg::DepthImage>&& d) { on_depth(std::move(d)); });

@@ -27,7 +27,7 @@ HardwareBackend::Config HardwareBackend::read_config(ParamReader& p) {
   Config c;
   p.required("left_device", c.left_device);
   p.required("right_device", c.right_device);
-  p.choice("camera_api", c.camera_api, {"auto", "v4l2", "images", "any"});
+  p.choice("camera_api", c.camera_api, kCameraApiNames);
   p.required("calibration", c.calibration);
   p.optional("rate_hz", c.rate_hz, {0.1, 1000});
   p.optional("width", c.width, {0, 65535});

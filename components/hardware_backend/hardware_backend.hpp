@@ -50,13 +50,13 @@ class HardwareBackend final : public Component {
       "UDP (the hardware backend)";
   struct Config {
     // stereo cameras
-    std::string left_device, right_device;  // /dev/videoN, or anything VideoCapture opens
-    std::string camera_api = "auto";        // auto | v4l2 | images | any
-    std::string calibration;                // calibration file, relative to the working dir
-    double rate_hz = 15.0;                  // frames grabbed per second
-    uint32_t width = 0, height = 0;         // requested capture size, px; 0 = calibration's
-    double rectify_alpha = 0.0;             // 0: valid pixels only .. 1: all source pixels
-    uint32_t camera_buffer_frames = 1;      // V4L2 driver queue (1 = the freshest frame)
+    std::string left_device, right_device;    // /dev/videoN, or anything VideoCapture opens
+    CameraApi camera_api = CameraApi::kAuto;  // auto | v4l2 | images | any
+    std::string calibration;                  // calibration file, relative to the working dir
+    double rate_hz = 15.0;                    // frames grabbed per second
+    uint32_t width = 0, height = 0;           // requested capture size, px; 0 = calibration's
+    double rectify_alpha = 0.0;               // 0: valid pixels only .. 1: all source pixels
+    uint32_t camera_buffer_frames = 1;        // V4L2 driver queue (1 = the freshest frame)
     // where the left camera sits on the body (x forward, y left, z up from the floor under
     // the robot's centre); the rectified rig looks level along body +x
     std::vector<double> camera_mount_m = {0.25, 0.0, 0.35};

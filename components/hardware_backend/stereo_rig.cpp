@@ -36,25 +36,24 @@ std::string_view to_string(FrameStatus status) {
 
 namespace {
 
-enum class Api { kV4l2, kImages, kAny };
-
-Api pick_api(const std::string& api, const std::string& device) {
-  if (api == "v4l2") return Api::kV4l2;
-  if (api == "images") return Api::kImages;
-  if (api == "any") return Api::kAny;
-  if (device.starts_with("/dev/")) return Api::kV4l2;
-  if (device.find('%') != std::string::npos) return Api::kImages;
-  return Api::kAny;
+// The API to open `device` with: `api` itself, or for kAuto the device's kind (a /dev/ path is
+// V4L2, a printf pattern an image sequence, anything else OpenCV's choice). Never kAuto.
+CameraApi pick_api(CameraApi api, const std::string& device) {
+  if (api != CameraApi::kAuto) return api;
+  if (device.starts_with("/dev/")) return CameraApi::kV4l2;
+  if (device.find('%') != std::string::npos) return CameraApi::kImages;
+  return CameraApi::kAny;
 }
 
-int opencv_api(Api api) {
+int opencv_api(CameraApi api) {
   switch (api) {
-    case Api::kV4l2:
+    case CameraApi::kV4l2:
       return cv::CAP_V4L2;
-    case Api::kImages:
+    case CameraApi::kImages:
       return cv::CAP_IMAGES;
-    case Api::kAny:
-      return cv::CAP_ANY;
+    case CameraApi::kAny:
+    case CameraApi::kAuto:
+      break;
   }
   return cv::CAP_ANY;
 }
@@ -79,15 +78,15 @@ std::optional<std::string> sequence_file(const std::string& pattern, int index) 
 
 // Why `device` cannot be opened with `api`, found without OpenCV (whose own messages go to
 // stderr and name no cause); empty when nothing is wrong that we can see.
-std::string precheck(const std::string& device, Api api) {
+std::string precheck(const std::string& device, CameraApi api) {
   if (device.empty()) return "no device given";
-  if (api == Api::kV4l2) {
+  if (api == CameraApi::kV4l2) {
     const int fd = ::open(device.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) return device_open_error(errno, "video");
     ::close(fd);
     return {};
   }
-  if (api == Api::kImages) {
+  if (api == CameraApi::kImages) {
     const auto first = sequence_file(device, 0);
     if (!first) return "not an image-sequence pattern; allowed: one %d, e.g. 'dir/left_%03d.png'";
     std::error_code ec;
@@ -131,14 +130,14 @@ struct StereoRig::Impl {
                                                            const StereoRigConfig& config,
                                                            const StereoCalibration& calibration,
                                                            cv::Size size) {
-    const Api api = pick_api(config.api, device);
+    const CameraApi api = pick_api(config.api, device);
     if (std::string cause = precheck(device, api); !cause.empty())
       return make_unexpected(name + ": cannot open (" + cause + ")");
     cv::VideoCapture cap;
     bool opened = false;
     try {
       opened = cap.open(device, opencv_api(api));
-      if (opened && api == Api::kV4l2) {
+      if (opened && api == CameraApi::kV4l2) {
         cap.set(cv::CAP_PROP_FRAME_WIDTH, size.width);
         cap.set(cv::CAP_PROP_FRAME_HEIGHT, size.height);
         cap.set(cv::CAP_PROP_FPS, config.rate_hz);
@@ -150,7 +149,8 @@ struct StereoRig::Impl {
     if (!opened)
       return make_unexpected(
           name + ": cannot open (no OpenCV video backend accepts it" +
-          (api == Api::kV4l2 ? std::string("; not a V4L2 capture device?") : std::string()) + ")");
+          (api == CameraApi::kV4l2 ? std::string("; not a V4L2 capture device?") : std::string()) +
+          ")");
     const int width = static_cast<int>(cap.get(cv::CAP_PROP_FRAME_WIDTH));
     const int height = static_cast<int>(cap.get(cv::CAP_PROP_FRAME_HEIGHT));
     // 0 = the backend cannot tell before the first frame: rectify_into() checks each frame

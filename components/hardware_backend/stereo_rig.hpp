@@ -24,17 +24,25 @@
 #include <string_view>
 
 #include "components/hardware_backend/stereo_calibration.hpp"
+#include "core/enum_names.hpp"
 #include "core/result.hpp"
 #include "interfaces/sensor_msgs.hpp"
 
 namespace scancrew::hardware_backend {
 
+// How VideoCapture opens the devices: auto (V4L2 for /dev/*, the image-sequence reader
+// for a name with a %d pattern, else any backend), v4l2, images, any.
+enum class CameraApi : uint8_t { kAuto, kV4l2, kImages, kAny };
+
+inline constexpr EnumNames<CameraApi, 4> kCameraApiNames = {{{CameraApi::kAuto, "auto"},
+                                                             {CameraApi::kV4l2, "v4l2"},
+                                                             {CameraApi::kImages, "images"},
+                                                             {CameraApi::kAny, "any"}}};
+
 struct StereoRigConfig {
   std::string left_device, right_device;  // /dev/videoN, an image-sequence pattern, a URL...
-  // How VideoCapture opens the devices: auto (V4L2 for /dev/*, the image-sequence reader
-  // for a name with a %d pattern, else any backend), v4l2, images, any.
-  std::string api = "auto";
-  double rate_hz = 15.0;       // asked of V4L2 cameras (CAP_PROP_FPS)
+  CameraApi api = CameraApi::kAuto;       // how VideoCapture opens the devices (above)
+  double rate_hz = 15.0;                  // asked of V4L2 cameras (CAP_PROP_FPS)
   double rectify_alpha = 0.0;  // cv::stereoRectify alpha: 0 crops to valid pixels, 1 keeps all
   uint32_t driver_buffer_frames = 1;  // V4L2 frames queued in the driver (latency vs. drops)
 };

@@ -57,16 +57,14 @@ struct RoadmapMemo {
 
 HighLevelPlanner::Config HighLevelPlanner::read_config(ParamReader& p) {
   Config c;
-  p.choice("algorithm", c.algorithm, {"tsga", "dist_tsga", "nnb"});
-  p.choice("inter_cluster_distance", c.inter_cluster_distance, {"euclidean", "roadmap"});
+  p.choice("algorithm", c.algorithm, kAlgorithmNames);
+  p.choice("inter_cluster_distance", c.inter_cluster_distance, kInterClusterDistanceNames);
   read_penalties(p, "ground", c.ground);
   read_penalties(p, "multirotor", c.multirotor);
   p.optional("insertion_iterations", c.options.insertion_iterations, {0, 100000});
   p.optional("final_iterations", c.options.final_iterations, {0, 1000000});
   p.optional("seed", c.options.seed);
-  std::string gain = "arc";
-  p.choice("allocation_gain", gain, {"arc", "arrival"});
-  c.options.gain = gain == "arc" ? PlannerOptions::Gain::kArc : PlannerOptions::Gain::kArrival;
+  p.choice("allocation_gain", c.options.gain, tsga::kGainNames);
   p.optional("min_replan_period_s", c.min_replan_period_s, {0, 1e6});
   p.optional("keep_intra_paths", c.keep_intra_paths);
   p.optional("idle_teammate_s", c.idle_teammate_s, {0, 1e6});
@@ -81,26 +79,26 @@ HighLevelPlanner::~HighLevelPlanner() = default;
 
 Result<void, std::string> HighLevelPlanner::on_configure() {
   per_robot_ = robot_id() != 0;
-  if (config_.algorithm == "dist_tsga" && !per_robot_)
+  if (config_.algorithm == Algorithm::kDistTsga && !per_robot_)
     return make_unexpected("algorithm dist_tsga runs on every robot: set per_robot: true");
-  if (config_.algorithm == "tsga" && per_robot_)
+  if (config_.algorithm == Algorithm::kTsga && per_robot_)
     return make_unexpected(
         "algorithm tsga is the centralized planner: set per_robot: false (dist_tsga is the "
         "per-robot one)");
   if (team().empty()) return make_unexpected("the launch file has no robots to plan for");
-  if (config_.inter_cluster_distance == "roadmap") {
-    const std::string& kind = team().front().kind;
+  if (config_.inter_cluster_distance == InterClusterDistance::kRoadmap) {
+    const robot::RobotKind kind = team().front().kind;
     for (const TeamMember& t : team())
       if (t.kind != kind)
         return make_unexpected(
             "inter_cluster_distance: roadmap needs a team of one robot type: the travel "
             "distance (PlannerOptions::travel_distance) does not know which robot an arc is "
             "for, and a " +
-            kind + " robot's roadmap is not a " + t.kind + "'s (robot " + std::to_string(t.id) +
+            std::string(robot::to_string(kind)) + " robot's roadmap is not a " +
+            robot::to_string(t.kind) + "'s (robot " + std::to_string(t.id) +
             "); use euclidean for a mixed team");
     motion::PlannerConfig pc = config_.roadmap;
-    pc.robot_kind =
-        kind == "multirotor" ? robot::RobotKind::kMultirotor : robot::RobotKind::kGround;
+    pc.robot_kind = kind;
     auto planner = motion::MotionPlanner::create(pc);
     if (!planner) return make_unexpected(planner.error());
     roadmap_ = std::make_unique<motion::MotionPlanner>(std::move(planner).value());
@@ -114,14 +112,15 @@ Result<void, std::string> HighLevelPlanner::on_configure() {
     const TeamMember& t = team()[i];
     Member m;
     m.id = t.id;
-    m.type_bit = t.kind == "multirotor" ? kMultirotorBit : kGroundBit;
-    m.penalties = t.kind == "multirotor" ? config_.multirotor : config_.ground;
+    const bool multirotor = t.kind == robot::RobotKind::kMultirotor;
+    m.type_bit = multirotor ? kMultirotorBit : kGroundBit;
+    m.penalties = multirotor ? config_.multirotor : config_.ground;
     m.position = {t.start_x_m, t.start_y_m, t.start_z_m};
     m.yaw_rad = t.start_yaw_rad;
     members_.push_back(m);
     const std::string ns = "/" + t.ns + "/";
-    create_subscription<msg::Odometry>(
-        resolve_in("pose", t.ns), {.depth = 1}, [this, i](Sample<msg::Odometry>&& s) {
+    create_teammate_subscription<msg::Odometry>(
+        "pose", t.ns, {.depth = 1}, [this, i](Sample<msg::Odometry>&& s) {
           const msg::Vec3& p = s->T_world_body.position;
           if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
             members_[i].position = vec(p);
@@ -214,7 +213,7 @@ void HighLevelPlanner::on_robot_state(size_t member, const msg::RobotState& stat
   // only the robots this instance plans for: all (centralized) or its own (per robot)
   if (per_robot_ && members_[member].id != robot_id()) return;
   if (state.mode == Mode::kIdle) {
-    const bool realloc = config_.algorithm == "tsga";
+    const bool realloc = config_.algorithm == Algorithm::kTsga;
     plan(state.header.stamp_ns, realloc ? std::optional<size_t>(member) : std::nullopt);
   }
 }
@@ -331,8 +330,8 @@ void HighLevelPlanner::plan(int64_t stamp_ns, std::optional<size_t> idle) {
     next.robots[*idle] = std::move(mine).value();
     ++stats_.reallocations;
   } else {
-    auto team = config_.algorithm == "nnb" ? plan_nnb(robots, plan_clusters_, options)
-                                           : plan_tsga(robots, plan_clusters_, options);
+    auto team = config_.algorithm == Algorithm::kNnb ? plan_nnb(robots, plan_clusters_, options)
+                                                     : plan_tsga(robots, plan_clusters_, options);
     if (!team) return fail_once("clusters", team.error());
     // back to one RobotPlan per member: a lost member's is empty
     next.unassigned = std::move(team->unassigned);
@@ -411,7 +410,7 @@ void HighLevelPlanner::on_deactivate() {
   SCANCREW_LOG_INFO(
       "%s: %s: %llu plans (%.1f ms mean, %.1f max), %llu reallocations to idle robots, %llu "
       "updates skipped",
-      qualified_name().c_str(), config_.algorithm.c_str(),
+      qualified_name().c_str(), std::string(name_of(kAlgorithmNames, config_.algorithm)).c_str(),
       static_cast<unsigned long long>(stats_.plans), stats_.mean_ms, stats_.max_ms,
       static_cast<unsigned long long>(stats_.reallocations),
       static_cast<unsigned long long>(stats_.skipped));

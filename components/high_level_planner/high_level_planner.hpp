@@ -72,6 +72,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.hpp"
 #include "core/motion/planner_config.hpp"
 #include "core/tsga/tsga_planner.hpp"
 #include "executors/component.hpp"
@@ -91,6 +92,16 @@ using tsga::PlannerOptions;
 using tsga::PlanRobot;
 using tsga::TeamPlan;
 
+// algorithm: tsga (centralized) | dist_tsga (on every robot) | nnb
+enum class Algorithm : uint8_t { kTsga, kDistTsga, kNnb };
+inline constexpr EnumNames<Algorithm, 3> kAlgorithmNames = {
+    {{Algorithm::kTsga, "tsga"}, {Algorithm::kDistTsga, "dist_tsga"}, {Algorithm::kNnb, "nnb"}}};
+
+// inter_cluster_distance: euclidean (the straight line) | roadmap (the low-level planner's)
+enum class InterClusterDistance : uint8_t { kEuclidean, kRoadmap };
+inline constexpr EnumNames<InterClusterDistance, 2> kInterClusterDistanceNames = {
+    {{InterClusterDistance::kEuclidean, "euclidean"}, {InterClusterDistance::kRoadmap, "roadmap"}}};
+
 class HighLevelPlanner final : public Component {
  public:
   static constexpr std::string_view kDescription =
@@ -100,8 +111,8 @@ class HighLevelPlanner final : public Component {
     double lambda_ic_per_m = 0;
   };
   struct Config {
-    std::string algorithm = "tsga";  // tsga | dist_tsga | nnb
-    std::string inter_cluster_distance = "euclidean";
+    Algorithm algorithm = Algorithm::kTsga;
+    InterClusterDistance inter_cluster_distance = InterClusterDistance::kEuclidean;
     // table 5.3 (real-world ground robots) and table 2.2 (Powerplant UAV, shortest path)
     Penalties ground{.lambda_tc_per_m = 0.5, .lambda_ic_per_m = 0.01};
     Penalties multirotor{.lambda_tc_per_m = 0.3, .lambda_ic_per_m = 0.03};

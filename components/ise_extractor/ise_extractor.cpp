@@ -35,7 +35,6 @@ void read_type(ParamReader& p, const std::string& name, RobotTypeSpec& t) {
   if (t.type == RobotKind::kGround) {
     p.optional(name + "_camera_height_m", t.camera_height_m, {0.01, 100});
     p.optional(name + "_floor_z_m", t.floor_z_m, {-1e4, 1e4});
-    p.optional(name + "_body_height_m", t.body_height_m, {0.01, 100});
   }
 }
 
@@ -47,9 +46,8 @@ msg::Vec3 vec(const Eigen::Vector3d& v) {
 
 IseExtractor::Config IseExtractor::read_config(ParamReader& p) {
   Config c;
-  p.optional_list("robot_types", c.robot_types);
-  // the per-type keys of both types are read (so a typo is reported as unknown) and used for
-  // the types planned for
+  // the per-type keys of both kinds are read (so a typo is reported as unknown) and used for
+  // the kinds of the launch file's robots
   RobotTypeSpec ground;
   ground.type = RobotKind::kGround;
   RobotTypeSpec multirotor;
@@ -62,10 +60,7 @@ IseExtractor::Config IseExtractor::read_config(ParamReader& p) {
   multirotor.unknown_is_free = true;
   read_type(p, "ground", ground);
   read_type(p, "multirotor", multirotor);
-  for (const std::string& t : c.robot_types)
-    if (t != "ground" && t != "multirotor")
-      p.report("robot_types", "unknown robot type '" + t + "' (ground | multirotor)");
-  c.ise.robot_types = {ground, multirotor};  // narrowed to the team's types on configure
+  c.ise.robot_types = {ground, multirotor};  // narrowed to the team's kinds on configure
   p.optional("merge_distance_m", c.ise.merge_distance_m, {0, 100});
   p.optional("merge_angle_deg", c.ise.merge_angle_deg, {0, 89.9});
   p.optional("d_v_m", c.ise.d_v_m, {0.01, 1000});
@@ -92,14 +87,13 @@ IseExtractor::IseExtractor(ComponentContext context, Config config)
     : Component(std::move(context)), config_(std::move(config)) {}
 
 Result<void, std::string> IseExtractor::on_configure() {
-  std::vector<std::string> kinds = config_.robot_types;
-  if (kinds.empty())
-    for (const TeamMember& m : team())
-      if (std::find(kinds.begin(), kinds.end(), m.kind) == kinds.end()) kinds.push_back(m.kind);
-  if (kinds.empty()) kinds.emplace_back("ground");
+  // the kinds of the launch file's robots (a ground robot's without a team)
+  uint32_t kinds = 0;
+  for (const TeamMember& m : team()) kinds |= robot::kind_bit(m.kind);
+  if (kinds == 0) kinds = robot::kind_bit(RobotKind::kGround);
   std::vector<RobotTypeSpec> types;
   for (const RobotTypeSpec& t : config_.ise.robot_types)
-    if (std::find(kinds.begin(), kinds.end(), to_string(t.type)) != kinds.end()) types.push_back(t);
+    if ((kinds & robot::kind_bit(t.type)) != 0) types.push_back(t);
   config_.ise.robot_types = types;
   // the map's W_th and voxel size come with the first snapshot; check the rest now
   if (std::string problem = config_.ise.validate(1.0, 1.0); !problem.empty())
@@ -113,8 +107,8 @@ Result<void, std::string> IseExtractor::on_configure() {
     stays_.resize(team().size());
     for (size_t i = 0; i < team().size(); ++i) {
       if (team()[i].ns.empty()) continue;
-      create_subscription<msg::Odometry>(
-          resolve_in("pose", team()[i].ns), {.depth = 1}, [this, i](Sample<msg::Odometry>&& s) {
+      create_teammate_subscription<msg::Odometry>(
+          "pose", team()[i].ns, {.depth = 1}, [this, i](Sample<msg::Odometry>&& s) {
             const msg::Pose3& p = s->T_world_body;
             const double yaw = yaw_of(p.orientation);
             if (!std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||

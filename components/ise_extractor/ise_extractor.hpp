@@ -7,11 +7,11 @@
 //   clusters  msg::ViewpointClusters: clusters with gains, robot types, viewpoints
 // Completion (C_ins = ∅ over completion_updates consecutive updates) is logged once.
 //
-// Parameters: the robot types to plan for (`robot_types`, default: the kinds of the
-// launch file's robots) and, per type, `<type>_delta_pose_m`, `<type>_fov_h_deg`,
-// `<type>_fov_v_deg`, `<type>_min_range_m`, `<type>_max_range_m`, `<type>_clearance_m`,
-// and for ground robots `ground_camera_height_m`, `ground_floor_z_m`,
-// `ground_body_height_m`; then merge_distance_m, merge_angle_deg, d_v_m, d_v_max_m,
+// Parameters: it plans for the kinds of the launch file's robots; per kind,
+// `<type>_delta_pose_m`, `<type>_fov_h_deg`, `<type>_fov_v_deg`, `<type>_min_range_m`,
+// `<type>_max_range_m`, `<type>_clearance_m` (default: the body's bounding radius,
+// robot::BodyModel), and for ground robots `ground_camera_height_m`, `ground_floor_z_m` (the
+// body's height is its BodyModel's); then merge_distance_m, merge_angle_deg, d_v_m, d_v_max_m,
 // gain_rows, gain_cols, completion_updates; region_min_m, region_max_m (the box to
 // reconstruct: ISEs outside it are dropped; default everywhere); ply_path (a picture of the
 // last result, written when the component stops: ise_ply.hpp).
@@ -54,7 +54,6 @@ class IseExtractor final : public Component {
       "ISEs, viewpoints, clusters and gains from the map snapshots (thesis 2.4.2-2.4.3)";
   struct Config {
     IseConfig ise;
-    std::vector<std::string> robot_types;  // empty: the launch file's kinds
     std::string ply_path;    // written when the component stops: ise_ply.hpp (empty: not)
     int give_up_visits = 0;  // 0: never give an ISE up (the thesis)
     double visit_distance_m = 0.3;

@@ -82,7 +82,7 @@ Result<void, std::string> LowLevelPlanner::configure_planner() {
                                  [&](const TeamMember& m) { return m.id == robot_id(); });
   if (self == team().end())
     return make_unexpected("the low-level planner runs per robot (per_robot: true)");
-  const RobotKind kind = self->kind == "multirotor" ? RobotKind::kMultirotor : RobotKind::kGround;
+  const RobotKind kind = self->kind;
   // the launch file's kind decides; robot_type only matters outside a launch file
   config_.planner.robot_kind = kind;
   const bool multirotor = kind == RobotKind::kMultirotor;
@@ -129,7 +129,7 @@ void LowLevelPlanner::subscribe_teammates() {
   for (const TeamMember& m : team()) {
     if (m.id == robot_id()) continue;
     const size_t i = teammates_.size();
-    const bool mate_multirotor = m.kind == "multirotor";
+    const bool mate_multirotor = m.kind == RobotKind::kMultirotor;
     teammates_.push_back({.id = m.id,
                           .nominal_speed_mps = mate_multirotor
                                                    ? config_.multirotor_nominal_speed_mps

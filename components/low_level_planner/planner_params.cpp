@@ -10,17 +10,7 @@ using motion::TrafficConfig;
 
 PlannerConfig read_planner_config(ParamReader& p) {
   PlannerConfig c;
-  std::string type = "ground";
-  p.choice("robot_type", type, {"ground", "multirotor"});
-  c.robot_kind = type == "multirotor" ? RobotKind::kMultirotor : RobotKind::kGround;
-  Eigen::Vector3d& ground_radii = c.ground_body.safety_radii_m;
-  std::vector<double> radii(ground_radii.data(), ground_radii.data() + 3);
-  p.optional_list("ground_body_radii_m", radii, 3, {1e-3, 100});
-  if (radii.size() == 3) ground_radii = Eigen::Vector3d(radii[0], radii[1], radii[2]);
-  p.optional("ground_body_center_z_m", c.ground_body.safety_center_z_m, {-1e4, 1e4});
-  double multirotor_radius = c.multirotor_body.safety_radii_m.x();
-  p.optional("multirotor_body_radius_m", multirotor_radius, {1e-3, 100});
-  c.multirotor_body.safety_radii_m.setConstant(multirotor_radius);
+  p.choice("robot_type", c.robot_kind, robot::kRobotKindNames);
   p.optional("body_margin_m", c.body_margin_m, {0, 10});
   p.optional("unknown_is_occupied", c.unknown_is_occupied);
   p.optional("max_map_age_s", c.max_map_age_s, {0, 1e6});
@@ -51,12 +41,6 @@ ChecksConfig read_checks_config(ParamReader& p, RobotKind kind) {
 
   p.optional("c_thres_percent", c.utility.c_thres_percent, {0, 100});
 
-  p.optional("safety_radius_m", c.obstacle.sphere_radius_m, kPositive);
-  p.optional("safety_semi_major_m", c.obstacle.semi_major_m, kPositive);
-  p.optional("safety_semi_minor_m", c.obstacle.semi_minor_m, kPositive);
-  p.optional("safety_min_height_m", c.obstacle.min_height_m, {-100, 100});
-  p.optional("safety_max_height_m", c.obstacle.max_height_m, {-100, 100});
-
   TrafficConfig& t = c.traffic;
   p.optional("traffic_d0_m", t.d0_m, kPositive);
   p.optional("traffic_k_s", t.k_s, kNonNegative);
@@ -76,10 +60,6 @@ ChecksConfig read_checks_config(ParamReader& p, RobotKind kind) {
   p.optional("redundancy_match_cluster_ids", c.redundancy.match_cluster_ids);
 
   // cross-key rules the per-key ranges cannot see
-  if (kind == RobotKind::kGround && c.obstacle.semi_major_m < c.obstacle.semi_minor_m)
-    p.report("safety_semi_major_m", "must be >= safety_semi_minor_m");
-  if (kind == RobotKind::kGround && c.obstacle.max_height_m <= c.obstacle.min_height_m)
-    p.report("safety_max_height_m", "must be > safety_min_height_m");
   if (t.aside_max_m < t.aside_extra_m)
     p.report("traffic_aside_max_m", "must be >= traffic_aside_extra_m");
   return c;

@@ -30,7 +30,7 @@ MissionMonitor::Config MissionMonitor::read_config(ParamReader& p) {
   p.optional("coverage_truncation_share", c.coverage_truncation_share, {0.1, 1});
   p.optional("coverage_period_s", c.coverage_period_s, {0.1, 3600});
   p.optional("path_period_s", c.path_period_s, {0.01, 3600});
-  p.choice("maps", c.maps, {"per_robot", "shared", "none"});
+  p.choice("maps", c.maps, kMapSourcesNames);
   p.optional("stop_when_complete", c.stop_when_complete);
   p.optional("stall_timeout_s", c.stall_timeout_s, {0, 1e6});
   p.optional("eval_density_per_m2", c.eval_density_per_m2, {1, 1e6});
@@ -65,8 +65,8 @@ Result<void, std::string> MissionMonitor::on_configure() {
   have_pose_.assign(n, false);
   idle_since_s_.assign(n, -1.0);
   // maps: none has per-robot ISE sources, like per_robot, without their maps
-  const bool per_robot = config_.maps != "shared";
-  const bool maps = config_.maps != "none";
+  const bool per_robot = config_.maps != MapSources::kShared;
+  const bool maps = config_.maps != MapSources::kNone;
   sources_.resize(per_robot ? n : 1);
   // without maps (a simulator process) integration is not seen here: not held against
   for (RobotProgress& r : robots_) r.integrated = !maps;
@@ -101,9 +101,9 @@ Result<void, std::string> MissionMonitor::on_configure() {
 std::vector<eval::TeamStart> MissionMonitor::team_starts() const {
   std::vector<eval::TeamStart> starts;
   for (const TeamMember& m : team()) {
-    const bool ground = m.kind != "multirotor";
-    starts.push_back({.kind = ground ? robot::RobotKind::kGround : robot::RobotKind::kMultirotor,
-                      .position = {m.start_x_m, m.start_y_m, ground ? 0.0 : m.start_z_m}});
+    const bool ground = m.kind == robot::RobotKind::kGround;
+    starts.push_back(
+        {.kind = m.kind, .position = {m.start_x_m, m.start_y_m, ground ? 0.0 : m.start_z_m}});
   }
   return starts;
 }
@@ -193,7 +193,7 @@ void MissionMonitor::account_time(double t) {
   const double dt = t - accounted_s_;
   if (dt <= 0) return;
   accounted_s_ = t;
-  const bool per_robot = config_.maps != "shared";
+  const bool per_robot = config_.maps != MapSources::kShared;
   for (size_t i = 0; i < robots_.size(); ++i) {
     RobotProgress& r = robots_[i];
     report::ActivityInputs in{.have_state = r.have_state,
@@ -294,7 +294,7 @@ void MissionMonitor::check_finished() {
   }
   // per-robot sources (per_robot, none): a lost robot's source is left out; the shared one
   // decides alone
-  const bool per_robot = config_.maps != "shared";
+  const bool per_robot = config_.maps != MapSources::kShared;
   bool all_complete = !(per_robot && all_lost);
   for (size_t k = 0; k < sources_.size(); ++k)
     if (!(per_robot && lost(k))) all_complete = all_complete && sources_[k].complete;

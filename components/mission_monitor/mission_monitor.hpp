@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "components/mission_monitor/surface_coverage.hpp"
+#include "core/enum_names.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
 #include "interfaces/map_msgs.hpp"
@@ -48,6 +49,13 @@
 #include "report/time_breakdown.hpp"
 
 namespace scancrew::mission_monitor {
+
+// Whose maps and ISEs the monitor watches (param `maps`; see above).
+enum class MapSources : uint8_t { kPerRobot, kShared, kNone };
+
+inline constexpr EnumNames<MapSources, 3> kMapSourcesNames = {{{MapSources::kPerRobot, "per_robot"},
+                                                               {MapSources::kShared, "shared"},
+                                                               {MapSources::kNone, "none"}}};
 
 class MissionMonitor final : public Component {
  public:
@@ -62,7 +70,7 @@ class MissionMonitor final : public Component {
     double coverage_period_s = 5.0;
     double path_period_s = 0.5;
     // per_robot | shared (centralized: the station's map) | none (per-robot ISEs, no maps)
-    std::string maps = "per_robot";
+    MapSources maps = MapSources::kPerRobot;
     bool stop_when_complete = true;
     double stall_timeout_s = 60.0;        // 0: never stop for a stall
     double eval_density_per_m2 = 2000.0;  // the final mesh evaluation (scancrew run --out)
@@ -75,7 +83,7 @@ class MissionMonitor final : public Component {
   struct RobotProgress {
     uint32_t id = 0;
     std::string ns;
-    std::string kind;
+    robot::RobotKind kind = robot::RobotKind::kGround;
     msg::RobotState::Mode mode = msg::RobotState::Mode::kIdle;
     bool have_state = false;
     double path_length_m = 0;
@@ -85,9 +93,11 @@ class MissionMonitor final : public Component {
     uint64_t ises_left = 0;
     bool have_ises = false;
     bool complete = false;
-    uint64_t planning_requests = 0;  // entries into kPlanning (replanning requests)
-    bool backing_off = false;        // the latest state's
-    uint32_t held_by_robot = 0;      // the latest state's
+    // entries into kPlanning (the robot awaiting a plan): metrics.json's "replans" where no
+    // low-level planner of the process says how many it asked for (a team split over processes)
+    uint64_t planning_requests = 0;
+    bool backing_off = false;    // the latest state's
+    uint32_t held_by_robot = 0;  // the latest state's
     // a map this robot's depth reaches has integrated one of its images (maps: none: true)
     bool integrated = false;
     report::TimeBreakdown time;  // where its mission time went (time_breakdown.hpp)

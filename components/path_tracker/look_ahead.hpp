@@ -19,12 +19,16 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.hpp"
 #include "core/result.hpp"
 #include "interfaces/nav_msgs.hpp"
 
 namespace scancrew::path_tracker {
 
-enum class YawSource { kTangent, kWaypoints };
+enum class YawSource : uint8_t { kTangent, kWaypoints };
+
+inline constexpr EnumNames<YawSource, 2> kYawSourceNames = {
+    {{YawSource::kTangent, "tangent"}, {YawSource::kWaypoints, "waypoints"}}};
 
 struct LookAheadConfig {
   double distance_m = 0.5;       // look-ahead distance along the path

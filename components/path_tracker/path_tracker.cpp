@@ -41,9 +41,7 @@ PathTracker::Config PathTracker::read_config(ParamReader& p) {
   p.optional("rate_hz", c.rate_hz, {1, 1000});
   p.optional("look_ahead_m", c.look_ahead.distance_m, {0.05, 20});
   p.optional("search_window_m", c.look_ahead.search_window_m, {0.1, 100});
-  std::string yaw_source = "tangent";
-  p.choice("yaw_source", yaw_source, {"tangent", "waypoints"});
-  c.look_ahead.yaw_source = yaw_source == "tangent" ? YawSource::kTangent : YawSource::kWaypoints;
+  p.choice("yaw_source", c.look_ahead.yaw_source, kYawSourceNames);
   p.optional("gain", c.law.gain, {0.01, 100});
   p.optional("gain_at_zero", c.law.gain_at_zero, {0.01, 100});
   p.optional("gain_slope", c.law.gain_slope, {0.01, 1000});
@@ -84,7 +82,7 @@ PathTracker::PathTracker(ComponentContext context, Config config)
 
 Result<void, std::string> PathTracker::on_configure() {
   for (const TeamMember& m : team())
-    if (m.id == robot_id()) ground_ = m.kind == "ground";
+    if (m.id == robot_id()) ground_ = m.kind == robot::RobotKind::kGround;
   turning_first_ = ground_ && config_.initial_turn_deg > 0;
   LookAheadConfig la = config_.look_ahead;
   la.planar = ground_;

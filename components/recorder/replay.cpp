@@ -14,7 +14,7 @@ namespace scancrew::recorder {
 Replay::Config Replay::read_config(ParamReader& p) {
   Config c;
   p.required("path", c.path);
-  p.choice("timing", c.timing, {"relative", "absolute"});
+  p.choice("timing", c.timing, kReplayTimingNames);
   p.optional("rate", c.rate, {1e-3, 1e3});
   p.optional("tick_s", c.tick_s, {1e-5, 1});
   p.optional_list("topics", c.topics);
@@ -69,7 +69,7 @@ Result<void, std::string> Replay::on_configure() {
 }
 
 bool Replay::due(int64_t receive_ns, int64_t now_ns) {
-  if (config_.timing == "absolute") return now_ns >= receive_ns;
+  if (config_.timing == ReplayTiming::kAbsolute) return now_ns >= receive_ns;
   if (!start_ns_) {
     start_ns_ = now_ns;
     first_receive_ns_ = receive_ns;
@@ -128,7 +128,7 @@ void Replay::on_deactivate() {
   if (finished_ || !pending_) return;
   const double now = static_cast<double>(clock().now_ns());
   const double due_ns =
-      config_.timing == "absolute"
+      config_.timing == ReplayTiming::kAbsolute
           ? static_cast<double>(pending_->receive_ns)
           : static_cast<double>(start_ns_.value_or(clock().now_ns())) +
                 (static_cast<double>(pending_->receive_ns) -

@@ -21,10 +21,17 @@
 #include <vector>
 
 #include "components/recorder/log_file.hpp"
+#include "core/enum_names.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
 
 namespace scancrew::recorder {
+
+// When a recorded message goes out (param `timing`; see above).
+enum class ReplayTiming : uint8_t { kRelative, kAbsolute };
+
+inline constexpr EnumNames<ReplayTiming, 2> kReplayTimingNames = {
+    {{ReplayTiming::kRelative, "relative"}, {ReplayTiming::kAbsolute, "absolute"}}};
 
 class Replay final : public Component {
  public:
@@ -34,10 +41,10 @@ class Replay final : public Component {
       "the replay backend: plays a .sclog recording on its recorded topics";
   struct Config {
     std::string path;
-    std::string timing = "relative";  // relative | absolute
-    double rate = 1.0;                // playback speed (relative timing)
-    double tick_s = 0.001;            // how often due messages are published
-    std::vector<std::string> topics;  // absolute names to play; empty: all
+    ReplayTiming timing = ReplayTiming::kRelative;  // relative | absolute
+    double rate = 1.0;                              // playback speed (relative timing)
+    double tick_s = 0.001;                          // how often due messages are published
+    std::vector<std::string> topics;                // absolute names to play; empty: all
   };
   static Config read_config(ParamReader& p);
 

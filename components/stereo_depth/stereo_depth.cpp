@@ -25,7 +25,7 @@ StereoDepth::Config StereoDepth::read_config(ParamReader& p) {
   p.optional("speckle_range", s.speckle_range, {0, 64});
   p.optional("disp12_max_diff", s.disp12_max_diff, {-1, 64});
   p.optional("pre_filter_cap", s.pre_filter_cap, {1, 63});
-  p.choice("mode", s.mode, {"sgbm", "hh", "sgbm_3way"});
+  p.choice("mode", s.mode, kSgbmModeNames);
   p.optional("min_range_m", c.min_range_m, {0.01, 100});
   p.optional("max_range_m", c.max_range_m, {0.02, 1000});
   if (c.max_range_m <= c.min_range_m) p.report("max_range_m", "must be greater than min_range_m");
@@ -35,7 +35,7 @@ StereoDepth::Config StereoDepth::read_config(ParamReader& p) {
 }
 
 StereoDepth::StereoDepth(ComponentContext context, Config config)
-    : Component(std::move(context)), config_(std::move(config)) {}
+    : Component(std::move(context)), config_(config) {}
 
 StereoDepth::~StereoDepth() = default;
 

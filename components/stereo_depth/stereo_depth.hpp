@@ -16,12 +16,19 @@
 #include <string>
 #include <string_view>
 
+#include "core/enum_names.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
 #include "interfaces/nav_msgs.hpp"
 #include "interfaces/sensor_msgs.hpp"
 
 namespace scancrew::stereo_depth {
+
+// OpenCV's SGBM variant (param `mode`): 5 paths, 8 paths (full two-pass) or 3-way.
+enum class SgbmMode : uint8_t { kSgbm, kHh, kSgbm3Way };
+
+inline constexpr EnumNames<SgbmMode, 3> kSgbmModeNames = {
+    {{SgbmMode::kSgbm, "sgbm"}, {SgbmMode::kHh, "hh"}, {SgbmMode::kSgbm3Way, "sgbm_3way"}}};
 
 struct SgbmParams {
   // multiple of 16; 0: f·B/min_range (every depth in range, but the leftmost that many
@@ -35,7 +42,7 @@ struct SgbmParams {
   uint32_t speckle_range = 2;          // disparity variation inside a speckle, px
   int32_t disp12_max_diff = 1;         // left-right check, px; < 0 disables
   uint32_t pre_filter_cap = 63;
-  std::string mode = "sgbm";  // sgbm (5 paths) | hh (8 paths) | sgbm_3way
+  SgbmMode mode = SgbmMode::kSgbm;  // sgbm (5 paths) | hh (8 paths) | sgbm_3way
 };
 
 // Bad-input counters: every skipped frame is counted under its reason.

@@ -45,8 +45,17 @@ void StereoMatcher::compute(const uint8_t* left, const uint8_t* right, uint32_t 
     const int p1 = p.p1 != 0 ? static_cast<int>(p.p1) : 8 * block * block;
     const int p2 = p.p2 != 0 ? static_cast<int>(p.p2) : 32 * block * block;
     int mode = cv::StereoSGBM::MODE_SGBM;
-    if (p.mode == "hh") mode = cv::StereoSGBM::MODE_HH;
-    if (p.mode == "sgbm_3way") mode = cv::StereoSGBM::MODE_SGBM_3WAY;
+    switch (p.mode) {
+      case SgbmMode::kSgbm:
+        mode = cv::StereoSGBM::MODE_SGBM;
+        break;
+      case SgbmMode::kHh:
+        mode = cv::StereoSGBM::MODE_HH;
+        break;
+      case SgbmMode::kSgbm3Way:
+        mode = cv::StereoSGBM::MODE_SGBM_3WAY;
+        break;
+    }
     m.sgbm = cv::StereoSGBM::create(
         0, static_cast<int>(num_disparities(fx_px, baseline_m)), block, p1, p2, p.disp12_max_diff,
         static_cast<int>(p.pre_filter_cap), static_cast<int>(p.uniqueness_ratio),

@@ -77,7 +77,7 @@ Result<void, std::string> TeamSimulator::on_configure() {
     sim::RobotSpec r;
     r.id = m.id;
     r.name = m.ns;
-    r.kind = m.kind == "multirotor" ? robot::RobotKind::kMultirotor : robot::RobotKind::kGround;
+    r.kind = m.kind;
     r.start_x_m = m.start_x_m;
     r.start_y_m = m.start_y_m;
     r.start_z_m = m.start_z_m;

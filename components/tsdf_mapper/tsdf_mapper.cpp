@@ -43,10 +43,10 @@ TsdfMapper::Config TsdfMapper::read_config(ParamReader& p) {
   p.optional("min_range_m", c.tsdf.min_range_m, {0, 1000});
   p.optional("max_range_m", c.tsdf.max_range_m, {0.01, 1000});
   p.optional("clear_beyond_range", c.tsdf.clear_beyond_range);
-  p.choice("weight", c.tsdf.weight, {"inverse_square", "constant"});
+  p.choice("weight", c.tsdf.weight, tsdf::kTsdfWeightNames);
   p.optional("tile_px", c.tsdf.tile_px, {1, 64});
   if (auto problem = c.tsdf.validate(); !problem.empty()) p.report("voxel_m", problem);
-  p.choice("mode", c.mode, {"single", "centralized", "distributed"});
+  p.choice("mode", c.mode, kMapModeNames);
   p.optional("patch_frames", c.patch_frames, {1, 100000});
   p.optional("patch_distance_m", c.patch_distance_m, {0, 1e6});
   p.optional("snapshot_every", c.snapshot_every, {1, 100000});
@@ -58,7 +58,7 @@ TsdfMapper::Config TsdfMapper::read_config(ParamReader& p) {
   if (c.depth_topic.empty() || c.depth_topic.front() == '/')
     p.report("depth_topic", "'" + c.depth_topic + "' must be a relative topic name (e.g. depth)");
   p.optional("mesh_path", c.mesh_path);
-  p.choice("mesh_colour", c.mesh_colour, {"owner", "none"});
+  p.choice("mesh_colour", c.mesh_colour, kMeshColourNames);
   p.optional("mesh_min_weight", c.mesh_min_weight, {0, 1e6});
   p.optional("octomap_path", c.octomap_path);
   return c;
@@ -76,7 +76,7 @@ TsdfMapper::~TsdfMapper() = default;
 Result<void, std::string> TsdfMapper::on_configure() {
   map_ = create_publisher<msg::MapUpdate>("map", {.pool_size = 4});
   const auto on_depth_sample = [this](Sample<msg::DepthImage>&& s) { on_depth(*s); };
-  if (config_.mode == "centralized") {
+  if (config_.mode == MapMode::kCentralized) {
     if (team().empty())
       return make_unexpected(std::string("mode centralized needs the robots: section"));
     for (const TeamMember& m : team())
@@ -86,7 +86,7 @@ Result<void, std::string> TsdfMapper::on_configure() {
   }
   create_subscription<msg::DepthImage>(config_.depth_topic, {.depth = config_.depth_queue_depth},
                                        on_depth_sample);
-  if (config_.mode != "distributed") return {};
+  if (config_.mode != MapMode::kDistributed) return {};
 
   patch_ = create_publisher<msg::TsdfPatch>("patch", {.pool_size = 4});
   reply_ = create_publisher<msg::TsdfPatch>("patch_reply", {.pool_size = 16});
@@ -107,8 +107,8 @@ Result<void, std::string> TsdfMapper::on_configure() {
     create_subscription<msg::PatchRequest>(
         ns + "patch_request", {.depth = 8},
         [this](Sample<msg::PatchRequest>&& s) { on_request(*s); });
-    create_subscription<msg::Odometry>(
-        resolve_in("pose", teammates_[i].ns), {.depth = 2}, [this, i](Sample<msg::Odometry>&& s) {
+    create_teammate_subscription<msg::Odometry>(
+        "pose", teammates_[i].ns, {.depth = 2}, [this, i](Sample<msg::Odometry>&& s) {
           if (s->tracking_quality <= 0) return;
           teammates_[i].position = msg::to_eigen(s->T_world_body.position);
           teammates_[i].has_position = true;
@@ -134,7 +134,7 @@ void TsdfMapper::on_deactivate() {
                     qualified_name().c_str(), static_cast<unsigned long long>(s.integrated),
                     s.integrated > 0 ? s.integrate_ms_sum / static_cast<double>(s.integrated) : 0.0,
                     s.integrate_ms_max, static_cast<unsigned long long>(s.rejected_frames));
-  if (config_.mode == "distributed")
+  if (config_.mode == MapMode::kDistributed)
     SCANCREW_LOG_INFO(
         "%s: patches: %llu made (%.1f kB each on the wire, 1/%.1f of raw float blocks), %llu "
         "held back (nothing new yet), %llu received, %llu refused, %llu duplicates ignored, %llu "
@@ -162,9 +162,9 @@ void TsdfMapper::write_outputs() {
     Mesher mesher(MesherConfig{.min_weight = config_.mesh_min_weight});
     mesher.full(*snap);
     const Mesh mesh = mesher.assemble(Weld::kAcrossBlocks);
-    const auto written =
-        write_ply(mesh, config_.mesh_path,
-                  config_.mesh_colour == "owner" ? PlyColour::kByOwner : PlyColour::kNone);
+    const auto written = write_ply(
+        mesh, config_.mesh_path,
+        config_.mesh_colour == MeshColour::kOwner ? PlyColour::kByOwner : PlyColour::kNone);
     if (written)
       SCANCREW_LOG_INFO("%s: wrote %s (%zu triangles)", qualified_name().c_str(),
                         config_.mesh_path.c_str(), mesh.triangles.size());
@@ -205,7 +205,7 @@ void TsdfMapper::on_depth(const msg::DepthImage& depth) {
     return;
   }
   frame.T_world_cam = msg::to_eigen(depth.T_world_cam);
-  const bool distributed = config_.mode == "distributed";
+  const bool distributed = config_.mode == MapMode::kDistributed;
 
   // the integrator checks the frame (check_frame) as it reads it, before writing anything
   const auto t0 = std::chrono::steady_clock::now();
@@ -289,7 +289,7 @@ void TsdfMapper::summarize(RunSummary& into) const {
   const std::string& name = qualified_name();
   into.maps.push_back({.component = name.substr(name.rfind('/') + 1),
                        .robot_id = robot_id(),
-                       .mode = config_.mode,
+                       .mode = std::string(name_of(kMapModeNames, config_.mode)),
                        .mesh_path = config_.mesh_path,
                        .octomap_path = config_.octomap_path,
                        .voxel_m = config_.tsdf.voxel_m,

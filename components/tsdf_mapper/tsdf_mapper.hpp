@@ -47,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.hpp"
 #include "core/tsdf/integrator.hpp"
 #include "core/tsdf/tsdf_map.hpp"
 #include "executors/component.hpp"
@@ -63,6 +64,19 @@ using tsdf::Integrator;
 using tsdf::MapSnapshot;
 using tsdf::TsdfConfig;
 using tsdf::TsdfMap;
+
+// Which depth goes into which map (param `mode`; see above).
+enum class MapMode : uint8_t { kSingle, kCentralized, kDistributed };
+
+inline constexpr EnumNames<MapMode, 3> kMapModeNames = {{{MapMode::kSingle, "single"},
+                                                         {MapMode::kCentralized, "centralized"},
+                                                         {MapMode::kDistributed, "distributed"}}};
+
+// How the mesh written to mesh_path is coloured (param `mesh_colour`).
+enum class MeshColour : uint8_t { kOwner, kNone };
+
+inline constexpr EnumNames<MeshColour, 2> kMeshColourNames = {
+    {{MeshColour::kOwner, "owner"}, {MeshColour::kNone, "none"}}};
 
 struct TsdfMapperStats {
   uint64_t frames = 0, integrated = 0;
@@ -85,23 +99,23 @@ class TsdfMapper final : public Component {
       "TSDF mapping: depth -> map snapshots; patches shared between robots (distributed)";
   struct Config {
     TsdfConfig tsdf;
-    std::string mode = "single";   // single | centralized | distributed
-    uint32_t patch_frames = 5;     // depth images per patch (thesis 4.6: 5)
-    double patch_distance_m = 0;   // or this much travel (0: off)
-    uint32_t snapshot_every = 1;   // publish a snapshot every N integrated images
-    double request_delay_s = 1.0;  // a listed patch missing this long is requested
-    double request_retry_s = 2.0;  // and requested again this often
-    int compression_level = 3;     // zstd level of the patch payload
+    MapMode mode = MapMode::kSingle;  // single | centralized | distributed
+    uint32_t patch_frames = 5;        // depth images per patch (thesis 4.6: 5)
+    double patch_distance_m = 0;      // or this much travel (0: off)
+    uint32_t snapshot_every = 1;      // publish a snapshot every N integrated images
+    double request_delay_s = 1.0;     // a listed patch missing this long is requested
+    double request_retry_s = 2.0;     // and requested again this often
+    int compression_level = 3;        // zstd level of the patch payload
     uint32_t depth_queue_depth = 4;
     // the depth topic, relative: the robot's (single, distributed; a remap works too) or each
     // robot's "/<ns>/<depth_topic>" (centralized, which has no per-robot remap); e.g.
     // depth_masked, the depth_mask's output
     std::string depth_topic = "depth";
     // written when the component stops (empty: not written)
-    std::string mesh_path;              // the global estimate's mesh, binary PLY
-    std::string mesh_colour = "owner";  // owner (each robot's patches in its colour) | none
-    double mesh_min_weight = 0;         // MesherConfig::min_weight: 0 meshes every observed voxel
-    std::string octomap_path;           // known space as an OctoMap (.bt)
+    std::string mesh_path;                        // the global estimate's mesh, binary PLY
+    MeshColour mesh_colour = MeshColour::kOwner;  // owner (robots' patches in their colour) | none
+    double mesh_min_weight = 0;  // MesherConfig::min_weight: 0 meshes every observed voxel
+    std::string octomap_path;    // known space as an OctoMap (.bt)
   };
   static Config read_config(ParamReader& p);
 

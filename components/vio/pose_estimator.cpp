@@ -60,7 +60,8 @@ void PoseEstimator::estimate(std::span<const Eigen::Vector3d> points_ref,
     found = cv::solvePnPRansac(m.object, m.image, k, cv::noArray(), rvec, tvec, false,
                                static_cast<int>(c.ransac_iterations),
                                static_cast<float>(c.ransac_reprojection_px), c.ransac_confidence,
-                               m.inlier_index, c.ap3p ? cv::SOLVEPNP_AP3P : cv::SOLVEPNP_P3P);
+                               m.inlier_index,
+                               c.solver == PnpSolver::kAp3p ? cv::SOLVEPNP_AP3P : cv::SOLVEPNP_P3P);
   } catch (const cv::Exception&) {
     found = false;  // degenerate configurations make the solvers throw
   }

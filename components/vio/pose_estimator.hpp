@@ -13,17 +13,24 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.hpp"
 #include "interfaces/geometry.hpp"
 
 namespace scancrew::vio {
+
+// The minimal solver inside RANSAC (param `pnp_solver`): AP3P or Gao's P3P.
+enum class PnpSolver : uint8_t { kAp3p, kP3p };
+
+inline constexpr EnumNames<PnpSolver, 2> kPnpSolverNames = {
+    {{PnpSolver::kAp3p, "ap3p"}, {PnpSolver::kP3p, "p3p"}}};
 
 struct PoseEstimatorConfig {
   double ransac_reprojection_px = 1.5;  // inlier threshold
   uint32_t ransac_iterations = 100;
   double ransac_confidence = 0.995;
-  bool ap3p = true;           // AP3P (true) or Gao's P3P (false) as minimal solver
-  bool refine = true;         // LM on the inliers, then inliers again
-  uint32_t min_inliers = 15;  // fewer: kTooFewInliers
+  PnpSolver solver = PnpSolver::kAp3p;  // minimal solver: AP3P or Gao's P3P
+  bool refine = true;                   // LM on the inliers, then inliers again
+  uint32_t min_inliers = 15;            // fewer: kTooFewInliers
 };
 
 enum class PoseStatus : uint8_t { kOk, kTooFewPoints, kSolverFailed, kTooFewInliers };

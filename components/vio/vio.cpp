@@ -41,9 +41,7 @@ Vio::Config Vio::read_config(ParamReader& p) {
   p.optional("ransac_reprojection_px", o.pose.ransac_reprojection_px, {0.1, 20});
   p.optional("ransac_iterations", o.pose.ransac_iterations, {1, 10000});
   p.optional("ransac_confidence", o.pose.ransac_confidence, {0.5, 0.99999});
-  std::string solver = o.pose.ap3p ? "ap3p" : "p3p";
-  p.choice("pnp_solver", solver, {"ap3p", "p3p"});
-  o.pose.ap3p = solver == "ap3p";
+  p.choice("pnp_solver", o.pose.solver, kPnpSolverNames);
   p.optional("pnp_refine", o.pose.refine);
   p.optional("min_inliers", o.pose.min_inliers, {4, 1000});
   // keyframes and priors
@@ -86,7 +84,8 @@ Result<void, std::string> Vio::on_configure() {
       return make_unexpected("robot id " + std::to_string(robot_id()) +
                              " is not in the launch file's robots: section (its start pose is "
                              "the origin of its odometry)");
-    const bool ground = it->kind != "multirotor";  // a ground robot's body frame is on the floor
+    const bool ground =
+        it->kind == robot::RobotKind::kGround;  // a ground robot's body frame is on the floor
     start_position_m_ = {it->start_x_m, it->start_y_m, ground ? 0.0 : it->start_z_m};
     start_yaw_rad_ = it->start_yaw_rad;
   } else {

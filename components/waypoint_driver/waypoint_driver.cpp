@@ -31,7 +31,7 @@ WaypointDriver::WaypointDriver(ComponentContext context, Config config)
 
 Result<void, std::string> WaypointDriver::on_configure() {
   for (const TeamMember& m : team())
-    if (m.id == robot_id()) ground_ = m.kind == "ground";
+    if (m.id == robot_id()) ground_ = m.kind == robot::RobotKind::kGround;
   cmd_ = create_publisher<msg::VelocityCommand>("cmd_vel");
   create_subscription<msg::Odometry>("pose", {.depth = 4}, [this](Sample<msg::Odometry>&& s) {
     if (s->tracking_quality <= 0) return;

@@ -4,11 +4,18 @@
 #include <cmath>
 #include <limits>
 
+#include "core/robot/body_model.hpp"
+
 namespace scancrew::motion {
 
 ObstacleCheckConfig ObstacleCheckConfig::for_kind(RobotKind kind) {
   ObstacleCheckConfig c;
   c.kind = kind;
+  // the safety volume's sizes are the body's (one body model, core/robot/body_model.hpp)
+  const robot::BodyModel body = robot::BodyModel::of(kind);
+  c.sphere_radius_m = body.bounding_radius_m();
+  c.semi_major_m = body.safety_radii_m.x();
+  c.semi_minor_m = body.safety_radii_m.y();
   return c;
 }
 

@@ -26,6 +26,7 @@ namespace scancrew::motion {
 
 struct ObstacleCheckConfig {
   RobotKind kind = RobotKind::kGround;
+  // for_kind() takes these three from the kind's robot::BodyModel
   double sphere_radius_m = 1.0;  // aerial: collision radius (tables 2.1, 3.1, 4.1)
   double semi_major_m = 0.55;    // ground: along the heading (table 5.3, "sM")
   double semi_minor_m = 0.25;    // ground: across the heading (table 5.3, "sm")
@@ -38,7 +39,7 @@ struct ObstacleCheckConfig {
   // is reported, not looped over.
   size_t max_voxels = 2'000'000;
 
-  // Thesis defaults for the kind (the struct's defaults are the ground robot's).
+  // The kind's safety volume (its BodyModel) and the defaults above.
   static ObstacleCheckConfig for_kind(RobotKind kind);
   // Empty when valid, else every problem, "; "-separated.
   std::string validate() const;

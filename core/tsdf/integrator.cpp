@@ -218,7 +218,7 @@ void Integrator::integrate_blocks(const DepthFrame& f, uint64_t sequence) {
   const bool clear = config_.clear_beyond_range;
   const float clear_r = max_r - mu;
   const auto w_max = static_cast<float>(config_.max_weight);
-  const bool inverse_square = config_.weight == "inverse_square";
+  const bool inverse_square = config_.weight == TsdfWeight::kInverseSquare;
   const auto width = static_cast<float>(f.width), height = static_cast<float>(f.height);
   const Eigen::Vector3f dx = rotation.col(0) * s, dy = rotation.col(1) * s,
                         dz = rotation.col(2) * s;

@@ -13,7 +13,7 @@ std::string TsdfConfig::validate() const {
   if (!(max_weight >= w_th)) return "max_weight must be >= w_th";
   if (!(min_range_m >= 0 && max_range_m > min_range_m && max_range_m <= 1000))
     return "min_range_m and max_range_m must satisfy 0 <= min < max <= 1000";
-  if (weight != "inverse_square" && weight != "constant")
+  if (weight != TsdfWeight::kInverseSquare && weight != TsdfWeight::kConstant)
     return "weight must be inverse_square or constant";
   if (tile_px < 1 || tile_px > 64) return "tile_px must be in [1, 64]";
   if (clear_beyond_range && !(max_range_m > truncation_m))
@@ -22,7 +22,7 @@ std::string TsdfConfig::validate() const {
 }
 
 MapSnapshot::MapSnapshot(TsdfConfig config, uint64_t sequence, BlockTable<const Block> blocks)
-    : config_(std::move(config)), sequence_(sequence), blocks_(std::move(blocks)) {}
+    : config_(config), sequence_(sequence), blocks_(std::move(blocks)) {}
 
 const Block* MapSnapshot::block(const BlockIndex& b) const {
   const auto it = blocks_.find(b);

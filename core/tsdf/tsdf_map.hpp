@@ -84,7 +84,7 @@ class MapSnapshot {
 
 class TsdfMap {
  public:
-  explicit TsdfMap(TsdfConfig config) : config_(std::move(config)) {}
+  explicit TsdfMap(TsdfConfig config) : config_(config) {}
 
   const TsdfConfig& config() const { return config_; }
   uint64_t sequence() const { return sequence_; }

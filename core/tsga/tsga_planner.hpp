@@ -36,6 +36,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/enum_names.hpp"
 #include "core/result.hpp"
 #include "core/tsga/atsp.hpp"
 
@@ -126,6 +127,10 @@ struct PlannerOptions {
   enum class Gain { kArc, kArrival };
   Gain gain = Gain::kArc;
 };
+
+// allocation_gain: arc | arrival
+inline constexpr EnumNames<PlannerOptions::Gain, 2> kGainNames = {
+    {{PlannerOptions::Gain::kArc, "arc"}, {PlannerOptions::Gain::kArrival, "arrival"}}};
 
 // A viewpoint of a plan: its cluster and its index in the cluster's viewpoint list.
 struct ViewpointRef {

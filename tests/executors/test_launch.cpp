@@ -159,6 +159,60 @@ components:
   EXPECT_NE(keys.find("duplicate key 'period_s'"), std::string::npos) << keys;
 }
 
+// A component without a name: is named by its type (one instance of it in the file):
+// composed, and found by --set, under the type's name.
+TEST(Launch, AComponentWithoutANameIsNamedByItsType) {
+  const std::string text = R"(
+clock: sim
+executor: {type: step}
+robots:
+  - {id: 1, namespace: r1}
+components:
+  - {type: test_named, params: {label: "from file"}}
+  - {name: other, type: test_named, per_robot: false}
+)";
+  auto launch = Launch::from_string(text, "typed.yaml", {.overrides = {"test_named.label=set"}});
+  ASSERT_TRUE(launch) << launch.error().front();
+  std::vector<std::string> got;
+  for (const auto& c : (*launch)->components()) {
+    got.push_back(c->qualified_name());
+    if (const auto* n = dynamic_cast<const Named*>(c.get())) got.push_back(n->config().label);
+  }
+  EXPECT_EQ(got, (std::vector<std::string>{"/r1/test_named", "set", "/other", ""}));
+}
+
+// Two components of one type, neither named (or one named as the other's type): one name
+// for two, refused naming the name.
+TEST(Launch, TwoUnnamedComponentsOfOneTypeAreRefused) {
+  const std::string both = errors_of(R"(
+components:
+  - {type: test_talker, params: {period_s: 1}}
+  - {type: test_talker, params: {period_s: 2}}
+)");
+  EXPECT_NE(both.find("bad.yaml:4: components[1] (no name: its type's): 'test_talker' names "
+                      "components[0] too; each component has a name of its own (two components "
+                      "of one type need distinct name: keys)"),
+            std::string::npos)
+      << both;
+  const std::string one = errors_of(R"(
+components:
+  - {type: test_talker, params: {period_s: 1}}
+  - {name: test_talker, type: test_named}
+)");
+  EXPECT_NE(one.find("bad.yaml:4: components[1].name: 'test_talker' names components[0] too"),
+            std::string::npos)
+      << one;
+  // distinct names: two of one type compose
+  EXPECT_EQ(errors_of(R"(
+clock: sim
+executor: {type: step}
+components:
+  - {type: test_talker, per_robot: false, params: {period_s: 1}}
+  - {name: second_talker, type: test_talker, per_robot: false, params: {period_s: 2}}
+)"),
+            "");
+}
+
 TEST(Launch, UnknownParameterIsAnError) {
   const std::string e = errors_of(
       "components:\n  - {name: a, type: test_talker, params: {period_s: 1, perod_s: 2}}\n");
@@ -203,6 +257,30 @@ components:
                    "ports: out"),
             std::string::npos)
       << e;
+}
+
+TEST(Launch, ALaunchRemapOfAPortNoComponentHasIsWarnedAbout) {
+  // the launch's own remap serves every component with the port; "outt" is nobody's
+  testing::internal::CaptureStderr();
+  auto launch = Launch::from_string(R"(
+remap: {outt: chatter}
+components:
+  - {name: talker, type: test_talker, params: {period_s: 1}}
+)",
+                                    "typo.yaml");
+  const std::string log = testing::internal::GetCapturedStderr();
+  EXPECT_TRUE(launch);
+  EXPECT_NE(log.find("typo.yaml: remap.outt: no component has port 'outt'"), std::string::npos)
+      << log;
+  testing::internal::CaptureStderr();
+  auto used = Launch::from_string(R"(
+remap: {out: chatter}
+components:
+  - {name: talker, type: test_talker, params: {period_s: 1}}
+)",
+                                  "used.yaml");
+  EXPECT_TRUE(used);
+  EXPECT_EQ(testing::internal::GetCapturedStderr().find("remap.out"), std::string::npos);
 }
 
 TEST(Launch, StepExecutorNeedsTheSimClock) {

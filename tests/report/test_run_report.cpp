@@ -392,9 +392,9 @@ constexpr const char* kMetrics = R"({
   "robots": [{"id": 1, "namespace": "r<1>", "kind": "ground", "path_length_m": 76.7,
               "replans": 6, "coverage": 0.98, "goals_reached": 33, "state": "idle"},
              {"id": 2, "namespace": "r2", "kind": "multirotor", "ises_left": 7}],
-  "compute_ms": {"r1/mapper": {"callbacks": 1200, "total_ms": 3500.0, "p50_ms": 2.1,
-                               "p99_ms": 9.0},
-                 "r1/tsga": {"callbacks": 10, "total_ms": 9000.0}}
+  "compute_ms": {"r1/tsdf_mapper": {"callbacks": 1200, "total_ms": 3500.0, "p50_ms": 2.1,
+                                    "p99_ms": 9.0},
+                 "r1/high_level_planner": {"callbacks": 10, "total_ms": 9000.0}}
 })";
 
 TEST(RunReport, WritesTheFiguresAndTablesWithEscapedStrings) {
@@ -423,7 +423,7 @@ TEST(RunReport, WritesTheFiguresAndTablesWithEscapedStrings) {
   // ISEs left: robot 1's from its last row of coverage.csv, robot 2's from metrics.json
   EXPECT_NE(html.find("<td class=\"n\">0</td></tr>"), std::string::npos);
   EXPECT_NE(html.find("<td class=\"n\">7</td></tr>"), std::string::npos);
-  EXPECT_LT(html.find("r1/tsga"), html.find("r1/mapper"));
+  EXPECT_LT(html.find("r1/high_level_planner"), html.find("r1/tsdf_mapper"));
   // links to the files present, text for the absent; no scripts, no external links
   EXPECT_NE(html.find("<a href=\"mesh.ply\">"), std::string::npos);
   EXPECT_EQ(html.find("<a href=\"map.bt\">"), std::string::npos);

@@ -31,6 +31,8 @@ struct Script {
   // (time, robot index in the team, state)
   std::vector<std::tuple<double, size_t, msg::RobotState>> states;
   std::vector<std::pair<double, std::shared_ptr<const tsdf::MapSnapshot>>> maps;
+  // (time, robot index in the team, request) on /<ns>/replan_request
+  std::vector<std::tuple<double, size_t, msg::ReplanRequest>> requests;
   std::string clusters_topic = "/clusters";
   std::string ises_topic = "/ises";
   std::string map_topic = "/map";
@@ -49,8 +51,10 @@ class Feeder final : public Component {
     clusters_ = create_publisher<msg::ViewpointClusters>(g_script.clusters_topic);
     ises_ = create_publisher<msg::IseSet>(g_script.ises_topic);
     map_ = create_publisher<msg::MapUpdate>(g_script.map_topic);
-    for (const TeamMember& m : team())
+    for (const TeamMember& m : team()) {
       states_.push_back(create_publisher<msg::RobotState>("/" + m.ns + "/robot_state"));
+      requests_.push_back(create_publisher<msg::ReplanRequest>("/" + m.ns + "/replan_request"));
+    }
     create_timer(std::chrono::milliseconds(50), [this] { tick(); });
     return {};
   }
@@ -85,12 +89,20 @@ class Feeder final : public Component {
           (*loan)->header.stamp_ns = msg::kStampUnset;
           (void)states_[robot].publish(std::move(*loan));
         }
+    for (const auto& [at, robot, r] : g_script.requests)
+      if (due(at))
+        if (auto loan = requests_[robot].loan()) {
+          **loan = r;
+          (*loan)->header.stamp_ns = msg::kStampUnset;
+          (void)requests_[robot].publish(std::move(*loan));
+        }
     last_ = t;
   }
   Publisher<msg::ViewpointClusters> clusters_;
   Publisher<msg::IseSet> ises_;
   Publisher<msg::MapUpdate> map_;
   std::vector<Publisher<msg::RobotState>> states_;
+  std::vector<Publisher<msg::ReplanRequest>> requests_;
   double last_ = -1;
 };
 
@@ -296,6 +308,36 @@ TEST(HighLevelPlanner, DistTsgaOnEveryRobotGivesTheCentralizedPartition) {
     merged[p.sequences[0].robot_id] = p.sequences[0].cluster_ids;
   }
   EXPECT_EQ(merged, partition(central.plans.front()));
+}
+
+TEST(HighLevelPlanner, AReplanRequestPlansAgainForTheRobotsThisInstancePlansFor) {
+  // clusters at 0.2 s: one plan; a request before them (0.1 s) has nothing to plan from; a
+  // request at 0.5 s plans again (the centralized instance plans for everyone; of the
+  // dist-TSGA instances only the asking robot's plans)
+  const msg::ViewpointClusters clusters = random_clusters(12, 5);
+  msg::ReplanRequest utility;
+  utility.reason = msg::ReplanRequest::Reason::kUtility;
+  g_script = {};
+  g_script.clusters = {{0.2, clusters}};
+  g_script.requests = {{0.1, 0, utility}, {0.5, 1, utility}};
+  PlanRun central =
+      run(launch_text(kThreeGround, "{name: hlp, type: high_level_planner, per_robot: false}"));
+  ASSERT_EQ(central.planners.size(), 1u);
+  EXPECT_EQ(central.plans.size(), 2u);
+  EXPECT_EQ(central.planners[0]->stats().plans, 2u);
+  EXPECT_EQ(central.planners[0]->stats().requests, 1u);
+
+  g_script.clusters_topic = "/shared_clusters";
+  PlanRun dist = run(launch_text(kThreeGround,
+                                 "{name: hlp, type: high_level_planner, remap: {clusters: "
+                                 "/shared_clusters}, params: {algorithm: dist_tsga}}"));
+  ASSERT_EQ(dist.planners.size(), 3u);
+  EXPECT_EQ(dist.plans.size(), 4u);  // one each on the clusters, robot 2's on its request
+  for (const HighLevelPlanner* p : dist.planners) {
+    const bool asked = p->robot_id() == 2;
+    EXPECT_EQ(p->stats().requests, asked ? 1u : 0u) << p->robot_id();
+    EXPECT_EQ(p->stats().plans, asked ? 2u : 1u) << p->robot_id();
+  }
 }
 
 TEST(HighLevelPlanner, AnIdleRobotGetsTheClustersNobodyHolds) {

@@ -136,7 +136,7 @@ components:
       ", skip_period_s: " + std::to_string(skip_period_s) + R"(}}
   - name: ise
     type: ise_extractor
-    params: {robot_types: [multirotor], multirotor_delta_pose_m: 2.0,
+    params: {multirotor_delta_pose_m: 2.0,
              multirotor_min_range_m: 0.3, multirotor_max_range_m: 5.0,
              multirotor_clearance_m: 0.3, d_v_m: 2.0, d_v_max_m: 5.0, gain_rows: 5,
              gain_cols: 7, completion_updates: 2, give_up_visits: 3, visit_period_s: )" +

@@ -38,8 +38,6 @@ TEST(ChecksConfig, ReadsEveryKeyFromTheLaunchMapping) {
       "goal_position_tolerance_m: 0.3\n"
       "goal_yaw_tolerance_deg: 20\n"
       "c_thres_percent: 50\n"
-      "safety_semi_major_m: 0.6\n"
-      "safety_semi_minor_m: 0.3\n"
       "traffic_d0_m: 0.7\n"
       "traffic_k_s: 1.5\n"
       "traffic_max_wait_s: 12\n"
@@ -51,8 +49,6 @@ TEST(ChecksConfig, ReadsEveryKeyFromTheLaunchMapping) {
   EXPECT_DOUBLE_EQ(c.goal.position_tolerance_m, 0.3);
   EXPECT_DOUBLE_EQ(c.goal.yaw_tolerance_deg, 20);
   EXPECT_DOUBLE_EQ(c.utility.c_thres_percent, 50);
-  EXPECT_DOUBLE_EQ(c.obstacle.semi_major_m, 0.6);
-  EXPECT_DOUBLE_EQ(c.obstacle.semi_minor_m, 0.3);
   EXPECT_DOUBLE_EQ(c.traffic.d0_m, 0.7);
   EXPECT_DOUBLE_EQ(c.traffic.safety_distance_m(0.5), 1.45);
   EXPECT_DOUBLE_EQ(c.traffic.max_wait_s, 12);
@@ -62,14 +58,33 @@ TEST(ChecksConfig, ReadsEveryKeyFromTheLaunchMapping) {
 TEST(ChecksConfig, BadValuesAreReportedWithTheirKey) {
   ParamReader p = ParamReader::from_yaml_string(
       "c_thres_percent: 120\n"
-      "safety_semi_major_m: 0.2\n",  // below the 0.25 m semi-minor axis
+      "goal_yaw_tolerance_deg: 200\n",  // above 180
       "bad.yaml");
   (void)read_checks_config(p, RobotKind::kGround);
   ASSERT_FALSE(p.ok());
   std::string all;
   for (const std::string& e : p.errors()) all += e + "\n";
   EXPECT_NE(all.find("c_thres_percent"), std::string::npos) << all;
-  EXPECT_NE(all.find("safety_semi_major_m"), std::string::npos) << all;
+  EXPECT_NE(all.find("goal_yaw_tolerance_deg"), std::string::npos) << all;
+}
+
+TEST(ChecksConfig, TheSafetyVolumeIsTheBodyAndNoKeySizesIt) {
+  // one body model (core/robot/body_model.hpp): table 5.3's 0.55 x 0.25 m ellipse for a ground
+  // robot, table 2.1's 1 m sphere for a multirotor
+  const ChecksConfig g = ChecksConfig::for_kind(RobotKind::kGround);
+  const ChecksConfig a = ChecksConfig::for_kind(RobotKind::kMultirotor);
+  EXPECT_DOUBLE_EQ(g.obstacle.semi_major_m, 0.55);
+  EXPECT_DOUBLE_EQ(g.obstacle.semi_minor_m, 0.25);
+  EXPECT_DOUBLE_EQ(a.obstacle.sphere_radius_m, 1.0);
+  for (const char* key : {"safety_radius_m", "safety_semi_major_m", "ground_body_radii_m",
+                          "multirotor_body_radius_m"}) {
+    ParamReader p = ParamReader::from_yaml_string(std::string(key) + ": 0.6\n", "test.yaml");
+    (void)read_checks_config(p, RobotKind::kGround);
+    (void)read_planner_config(p);
+    p.finish();
+    ASSERT_EQ(p.errors().size(), 1U) << key;
+    EXPECT_NE(p.errors().front().find("unknown parameter"), std::string::npos) << key;
+  }
 }
 
 TEST(ReplanRequest, ReasonsHaveNames) {
@@ -82,8 +97,7 @@ TEST(ReplanRequest, ReasonsHaveNames) {
 TEST(PlannerConfig, ReadsTheKeysAndReportsBadValues) {
   ParamReader p = ParamReader::from_yaml_string(
       "robot_type: multirotor\n"
-      "multirotor_body_radius_m: 1.5\n"
-      "ground_body_radii_m: [0.6, 0.3, 0.2]\n"
+      "body_margin_m: 0.2\n"
       "unknown_is_occupied: false\n"
       "planner_time_limit_s: 0.25\n"
       "roadmap_max_vertices: 300\n",
@@ -92,15 +106,13 @@ TEST(PlannerConfig, ReadsTheKeysAndReportsBadValues) {
   p.finish();
   ASSERT_TRUE(p.ok()) << p.errors().front();
   EXPECT_EQ(c.robot_kind, RobotKind::kMultirotor);
-  EXPECT_DOUBLE_EQ(c.multirotor_body.safety_radii_m.z(), 1.5);
-  EXPECT_DOUBLE_EQ(c.ground_body.safety_radii_m.y(), 0.3);
   EXPECT_FALSE(c.unknown_is_occupied);
   EXPECT_DOUBLE_EQ(c.planner_time_limit_s, 0.25);
   EXPECT_EQ(c.roadmap_max_vertices, 300);
-  EXPECT_DOUBLE_EQ(body_of(c).safety_radii_m.x(), 1.5 + c.body_margin_m);
+  EXPECT_DOUBLE_EQ(body_of(c).safety_radii_m.x(), 1.0 + 0.2);  // table 2.1's sphere + margin
 
   ParamReader bad = ParamReader::from_yaml_string(
-      "robot_type: boat\nplanner_time_limit_s: -1\nground_body_radii_m: [0.5]\n", "test");
+      "robot_type: boat\nplanner_time_limit_s: -1\nbody_margin_m: -1\n", "test");
   (void)read_planner_config(bad);
   EXPECT_GE(bad.errors().size(), 3u);
 

@@ -269,7 +269,7 @@ TEST(MissionMonitor, ALostRobotIsLeftOutOfTheCompletionTest) {
   ASSERT_TRUE(launch);
   const auto* monitor = launch->find_component<MissionMonitor>();
   ASSERT_NE(monitor, nullptr);
-  EXPECT_EQ(monitor->config().maps, "none");
+  EXPECT_EQ(monitor->config().maps, MapSources::kNone);
   launch->set_stop_condition([monitor] { return monitor->finished(); });
   const double ran = launch->run();
   EXPECT_EQ(monitor->stop_reason(), "complete");

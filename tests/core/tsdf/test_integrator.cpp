@@ -49,7 +49,7 @@ std::vector<Voxel> reference(const TsdfConfig& c, const std::vector<DepthFrame>&
             continue;
           if (d < -c.truncation_m) continue;
           const double phi = std::min(d, c.truncation_m);
-          const double wc = c.weight == "constant" ? 1.0 : 1.0 / p.squaredNorm();
+          const double wc = c.weight == TsdfWeight::kConstant ? 1.0 : 1.0 / p.squaredNorm();
           Voxel& vox = out[static_cast<size_t>(x + n.x() * (y + n.y() * z))];
           const double w = vox.weight + wc;
           vox.distance_m = static_cast<float>((vox.distance_m * vox.weight + phi * wc) / w);

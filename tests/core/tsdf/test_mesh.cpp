@@ -211,7 +211,7 @@ TEST(MarchingCubesTables, EdgeMasksAreTheEdgesTheTrianglesUseAndTheSignChanges) 
 
 TEST(Mesher, APlaneFromDepthFramesLiesWithinEmaxAndCoversTheVisibleArea) {
   TsdfConfig c = config(0.1);
-  c.weight = "constant";  // with 1/z² the frustum's far corners stay below w_th
+  c.weight = TsdfWeight::kConstant;  // with 1/z² the frustum's far corners stay below w_th
   TsdfMap map(c);
   Integrator integrator(c);
   const double wall_x = 3.03;
