@@ -82,47 +82,60 @@ class PlainType final : public dds::TopicDataType {
   }
 };
 
-template <size_t N>
-IpcResult run_case(bool cross_thread, const IpcOptions& options) {
-  using Blob = PlainBlob<N>;
-  IpcResult result{"fastdds", cross_thread ? "cross_thread" : "same_thread", N};
-
+// A participant on the shared-memory transport only (no network); nullptr when Fast DDS
+// refuses it.
+dds::DomainParticipant* create_participant(dds::DomainParticipantFactory* factory) {
   dds::DomainParticipantQos pqos;
   pqos.name("scancrew_bench_ipc");
   pqos.transport().use_builtin_transports = false;
   auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
   pqos.transport().user_transports.push_back(shm);
-  auto* factory = dds::DomainParticipantFactory::get_instance();
-  dds::DomainParticipant* participant = factory->create_participant(42, pqos);
-  if (participant == nullptr) {
-    result.lost = static_cast<size_t>(options.samples);
-    return result;
-  }
-  dds::TypeSupport type(new PlainType<Blob>("scancrew::bench::Blob" + std::to_string(N)));
-  type.register_type(participant);
-  dds::Topic* topic = participant->create_topic("bench_blob_" + std::to_string(N),
-                                                type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
+  return factory->create_participant(42, pqos);
+}
+
+// The writer's and the reader's common QoS: reliable, the last 4 samples, data-sharing.
+template <class Qos>
+void keep_last_four_shared(Qos& qos) {
+  qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
+  qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = 4;
+  qos.resource_limits().max_samples = 4;
+  qos.data_sharing().automatic();
+}
+
+struct Endpoints {
+  dds::TypeSupport type;
+  dds::DataWriter* writer = nullptr;
+  dds::DataReader* reader = nullptr;
+};
+
+// Registers PlainBlob<N>'s type on `participant` and creates a writer (synchronous) and a
+// reader of its topic; the participant owns them.
+template <size_t N>
+Endpoints create_endpoints(dds::DomainParticipant* participant) {
+  Endpoints endpoints;
+  endpoints.type =
+      dds::TypeSupport(new PlainType<PlainBlob<N>>("scancrew::bench::Blob" + std::to_string(N)));
+  endpoints.type.register_type(participant);
+  dds::Topic* topic = participant->create_topic(
+      "bench_blob_" + std::to_string(N), endpoints.type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
   dds::Publisher* publisher = participant->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
   dds::Subscriber* subscriber = participant->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
 
   dds::DataWriterQos wqos = publisher->get_default_datawriter_qos();
-  wqos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
-  wqos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
-  wqos.history().depth = 4;
-  wqos.resource_limits().max_samples = 4;
-  wqos.data_sharing().automatic();
+  keep_last_four_shared(wqos);
   wqos.publish_mode().kind = dds::SYNCHRONOUS_PUBLISH_MODE;
-  dds::DataWriter* writer = publisher->create_datawriter(topic, wqos);
+  endpoints.writer = publisher->create_datawriter(topic, wqos);
 
   dds::DataReaderQos rqos = subscriber->get_default_datareader_qos();
-  rqos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
-  rqos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
-  rqos.history().depth = 4;
-  rqos.resource_limits().max_samples = 4;
-  rqos.data_sharing().automatic();
-  dds::DataReader* reader = subscriber->create_datareader(topic, rqos);
+  keep_last_four_shared(rqos);
+  endpoints.reader = subscriber->create_datareader(topic, rqos);
+  return endpoints;
+}
 
-  // wait for the match (local, no discovery traffic leaves the process)
+// Waits up to 5 s for the writer to match the reader (local, no discovery traffic leaves the
+// process).
+void wait_for_match(dds::DataWriter* writer) {
   const int64_t match_deadline = monotonic_now_ns() + 5'000'000'000;
   dds::PublicationMatchedStatus matched;
   while (monotonic_now_ns() < match_deadline) {
@@ -130,64 +143,91 @@ IpcResult run_case(bool cross_thread, const IpcOptions& options) {
     if (matched.current_count > 0) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+}
 
-  LatencySamples samples(static_cast<size_t>(options.samples));
-  std::atomic<bool> measuring{false};
-  std::atomic<uint64_t> received{0};
-  std::atomic<bool> stop{false};
-
-  // takes everything available with loans, recording latency at take time
-  const auto take_all = [&] {
-    dds::LoanableSequence<Blob> data;
-    dds::SampleInfoSeq infos;
-    size_t n = 0;
-    while (reader->take(data, infos) == ReturnCode_t::RETCODE_OK) {
-      const int64_t now = monotonic_now_ns();
-      for (dds::LoanableCollection::size_type i = 0; i < infos.length(); ++i) {
-        if (!infos[i].valid_data) continue;
-        if (measuring.load(std::memory_order_relaxed)) samples.add(now - data[i].t0_ns);
-        ++n;
-      }
-      reader->return_loan(data, infos);
+// Takes everything available with loans, recording latency at take time.
+template <class Blob>
+void take_all(dds::DataReader* reader, DeliveryState& state) {
+  dds::LoanableSequence<Blob> data;
+  dds::SampleInfoSeq infos;
+  size_t n = 0;
+  while (reader->take(data, infos) == ReturnCode_t::RETCODE_OK) {
+    const int64_t now = monotonic_now_ns();
+    for (dds::LoanableCollection::size_type i = 0; i < infos.length(); ++i) {
+      if (!infos[i].valid_data) continue;
+      if (state.measuring.load(std::memory_order_relaxed)) state.samples.add(now - data[i].t0_ns);
+      ++n;
     }
-    if (n) received.fetch_add(n, std::memory_order_release);
-  };
-
-  std::thread reader_thread;
-  if (cross_thread) {
-    pin_to_cpu(0);
-    reader_thread = std::thread([&] {
-      pin_to_cpu(1);
-      dds::WaitSet waitset;
-      dds::StatusCondition& condition = reader->get_statuscondition();
-      condition.set_enabled_statuses(dds::StatusMask::data_available());
-      waitset.attach_condition(condition);
-      dds::ConditionSeq active;
-      while (!stop.load()) {
-        if (waitset.wait(active, eprosima::fastrtps::Duration_t(0, 100'000'000)) ==
-            ReturnCode_t::RETCODE_OK)
-          take_all();
-      }
-    });
+    reader->return_loan(data, infos);
   }
+  if (n) state.received.fetch_add(n, std::memory_order_release);
+}
 
+// cross_thread's reader: a thread pinned to CPU 1, blocked in a WaitSet on DATA_AVAILABLE
+// (100 ms at most, to see `stop`), taking what arrived.
+template <class Blob>
+std::thread start_reader_thread(dds::DataReader* reader, DeliveryState& state) {
+  return std::thread([reader, &state] {
+    pin_to_cpu(1);
+    dds::WaitSet waitset;
+    dds::StatusCondition& condition = reader->get_statuscondition();
+    condition.set_enabled_statuses(dds::StatusMask::data_available());
+    waitset.attach_condition(condition);
+    dds::ConditionSeq active;
+    while (!state.stop.load()) {
+      if (waitset.wait(active, eprosima::fastrtps::Duration_t(0, 100'000'000)) ==
+          ReturnCode_t::RETCODE_OK)
+        take_all<Blob>(reader, state);
+    }
+  });
+}
+
+// The measured loop: loans, stamps and writes warm-up + options.samples samples, waiting for
+// each (await_delivery); counts in result.lost the ones not loaned or not delivered.
+template <class Blob>
+void write_samples(const Endpoints& endpoints, bool cross_thread, const IpcOptions& options,
+                   DeliveryState& state, IpcResult& result) {
+  const auto take = [&] { take_all<Blob>(endpoints.reader, state); };
   const int warmup = 500;  // unrecorded: the receiving thread and core settle
   for (int i = 0; i < warmup + options.samples; ++i) {
-    measuring.store(i >= warmup, std::memory_order_relaxed);
-    const uint64_t before = received.load(std::memory_order_acquire);
+    state.measuring.store(i >= warmup, std::memory_order_relaxed);
+    const uint64_t before = state.received.load(std::memory_order_acquire);
     const int64_t t0 = monotonic_now_ns();
     void* raw = nullptr;
-    if (writer->loan_sample(raw) != ReturnCode_t::RETCODE_OK) {
+    if (endpoints.writer->loan_sample(raw) != ReturnCode_t::RETCODE_OK) {
       ++result.lost;
       continue;
     }
     auto* blob = static_cast<Blob*>(raw);
     blob->t0_ns = t0;
     blob->seq = static_cast<uint64_t>(i);
-    writer->write(raw);
-    if (!await_delivery(received, before, cross_thread, options.gap_us, take_all)) ++result.lost;
+    endpoints.writer->write(raw);
+    if (!await_delivery(state.received, before, cross_thread, options.gap_us, take)) ++result.lost;
   }
-  stop.store(true);
+}
+
+template <size_t N>
+IpcResult run_case(bool cross_thread, const IpcOptions& options) {
+  using Blob = PlainBlob<N>;
+  IpcResult result{"fastdds", cross_thread ? "cross_thread" : "same_thread", N};
+
+  auto* factory = dds::DomainParticipantFactory::get_instance();
+  dds::DomainParticipant* participant = create_participant(factory);
+  if (participant == nullptr) {
+    result.lost = static_cast<size_t>(options.samples);
+    return result;
+  }
+  const Endpoints endpoints = create_endpoints<N>(participant);
+  wait_for_match(endpoints.writer);
+
+  DeliveryState state(static_cast<size_t>(options.samples));
+  std::thread reader_thread;
+  if (cross_thread) {
+    pin_to_cpu(0);
+    reader_thread = start_reader_thread<Blob>(endpoints.reader, state);
+  }
+  write_samples<Blob>(endpoints, cross_thread, options, state, result);
+  state.stop.store(true);
   if (reader_thread.joinable()) {
     reader_thread.join();
     unpin();
@@ -195,7 +235,7 @@ IpcResult run_case(bool cross_thread, const IpcOptions& options) {
 
   participant->delete_contained_entities();
   factory->delete_participant(participant);
-  samples.summarise(result);
+  state.samples.summarise(result);
   return result;
 }
 

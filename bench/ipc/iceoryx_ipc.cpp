@@ -115,6 +115,74 @@ class StdoutToStderr {
   int saved_ = -1;
 };
 
+// Waits up to 5 s for the match: RouDi connects the ports in its discovery loop (every
+// 100 ms). True when the publisher has its subscriber.
+bool wait_for_match(const iox::popo::UntypedPublisher& publisher,
+                    const iox::popo::UntypedSubscriber& subscriber) {
+  const int64_t match_deadline = monotonic_now_ns() + 5'000'000'000;
+  while (monotonic_now_ns() < match_deadline &&
+         !(publisher.hasSubscribers() &&
+           subscriber.getSubscriptionState() == iox::SubscribeState::SUBSCRIBED))
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  return publisher.hasSubscribers();
+}
+
+// Takes everything queued, recording latency when take() returns; releases each chunk.
+void take_all(iox::popo::UntypedSubscriber& subscriber, DeliveryState& state) {
+  size_t n = 0;
+  for (;;) {
+    auto taken = subscriber.take();
+    if (taken.has_error()) break;
+    const int64_t now = monotonic_now_ns();
+    const void* chunk = taken.value();
+    if (state.measuring.load(std::memory_order_relaxed))
+      state.samples.add(now - static_cast<const Stamp*>(chunk)->t0_ns);
+    subscriber.release(chunk);
+    ++n;
+  }
+  if (n) state.received.fetch_add(n, std::memory_order_release);
+}
+
+// cross_thread's receiver: a thread pinned to CPU 1, blocked in `waitset` (the subscriber's
+// HAS_DATA attached) until the subscriber has data; the WaitSet times out every 100 ms to see
+// `stop`.
+std::thread start_receiver(iox::popo::UntypedSubscriber& subscriber, iox::popo::WaitSet<>& waitset,
+                           DeliveryState& state) {
+  return std::thread([&subscriber, &waitset, &state] {
+    pin_to_cpu(1);
+    while (!state.stop.load()) {
+      (void)waitset.timedWait(iox::units::Duration::fromMilliseconds(100));
+      take_all(subscriber, state);
+    }
+  });
+}
+
+// The measured loop: loans, stamps and publishes warm-up + options.samples chunks of
+// payload bytes after the stamp, waiting for each (await_delivery); counts in result.lost the
+// ones not loaned or not delivered.
+void publish_samples(iox::popo::UntypedPublisher& publisher,
+                     iox::popo::UntypedSubscriber& subscriber, bool cross_thread,
+                     const IpcOptions& options, DeliveryState& state, IpcResult& result) {
+  const auto take = [&] { take_all(subscriber, state); };
+  const int warmup = 500;  // unrecorded: the receiving thread and core settle
+  const auto chunk_bytes = static_cast<uint32_t>(sizeof(Stamp) + result.payload_bytes);
+  for (int i = 0; i < warmup + options.samples; ++i) {
+    state.measuring.store(i >= warmup, std::memory_order_relaxed);
+    const uint64_t before = state.received.load(std::memory_order_acquire);
+    const int64_t t0 = monotonic_now_ns();
+    auto loan = publisher.loan(chunk_bytes, alignof(Stamp));
+    if (loan.has_error()) {
+      ++result.lost;
+      continue;
+    }
+    auto* stamp = static_cast<Stamp*>(loan.value());
+    stamp->t0_ns = t0;
+    stamp->seq = static_cast<uint64_t>(i);
+    publisher.publish(loan.value());
+    if (!await_delivery(state.received, before, cross_thread, options.gap_us, take)) ++result.lost;
+  }
+}
+
 IpcResult run_case(size_t payload, bool cross_thread, const IpcOptions& options) {
   IpcResult result{"iceoryx", cross_thread ? "cross_thread" : "same_thread", payload};
   // a service per case: the previous case's ports may still be waiting for RouDi's clean-up
@@ -127,43 +195,14 @@ IpcResult run_case(size_t payload, bool cross_thread, const IpcOptions& options)
   iox::popo::SubscriberOptions subscriber_options;
   subscriber_options.queueCapacity = kQueueCapacity;
   iox::popo::UntypedSubscriber subscriber(service, subscriber_options);
-
-  // wait for the match: RouDi connects the ports in its discovery loop (every 100 ms)
-  const int64_t match_deadline = monotonic_now_ns() + 5'000'000'000;
-  while (monotonic_now_ns() < match_deadline &&
-         !(publisher.hasSubscribers() &&
-           subscriber.getSubscriptionState() == iox::SubscribeState::SUBSCRIBED))
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  if (!publisher.hasSubscribers()) {
+  if (!wait_for_match(publisher, subscriber)) {
     std::fprintf(stderr, "bench ipc: iceoryx %s: publisher and subscriber never matched\n",
                  event.c_str());
     result.lost = static_cast<size_t>(options.samples);
     return result;
   }
 
-  LatencySamples samples(static_cast<size_t>(options.samples));
-  std::atomic<bool> measuring{false};
-  std::atomic<uint64_t> received{0};
-  std::atomic<bool> stop{false};
-
-  // takes everything queued, recording latency when take() returns; releases each chunk
-  const auto take_all = [&] {
-    size_t n = 0;
-    for (;;) {
-      auto taken = subscriber.take();
-      if (taken.has_error()) break;
-      const int64_t now = monotonic_now_ns();
-      const void* chunk = taken.value();
-      if (measuring.load(std::memory_order_relaxed))
-        samples.add(now - static_cast<const Stamp*>(chunk)->t0_ns);
-      subscriber.release(chunk);
-      ++n;
-    }
-    if (n) received.fetch_add(n, std::memory_order_release);
-  };
-
-  // cross thread: a receiver thread pinned to CPU 1, blocked in the WaitSet until the
-  // subscriber has data; the WaitSet times out every 100 ms to see `stop`
+  DeliveryState state(static_cast<size_t>(options.samples));
   std::optional<iox::popo::WaitSet<>> waitset;
   std::thread receiver;
   if (cross_thread) {
@@ -175,40 +214,17 @@ IpcResult run_case(size_t payload, bool cross_thread, const IpcOptions& options)
       return result;
     }
     pin_to_cpu(0);
-    receiver = std::thread([&] {
-      pin_to_cpu(1);
-      while (!stop.load()) {
-        (void)waitset->timedWait(iox::units::Duration::fromMilliseconds(100));
-        take_all();
-      }
-    });
+    receiver = start_receiver(subscriber, *waitset, state);
   }
-
-  const int warmup = 500;  // unrecorded: the receiving thread and core settle
-  const auto chunk_bytes = static_cast<uint32_t>(sizeof(Stamp) + payload);
-  for (int i = 0; i < warmup + options.samples; ++i) {
-    measuring.store(i >= warmup, std::memory_order_relaxed);
-    const uint64_t before = received.load(std::memory_order_acquire);
-    const int64_t t0 = monotonic_now_ns();
-    auto loan = publisher.loan(chunk_bytes, alignof(Stamp));
-    if (loan.has_error()) {
-      ++result.lost;
-      continue;
-    }
-    auto* stamp = static_cast<Stamp*>(loan.value());
-    stamp->t0_ns = t0;
-    stamp->seq = static_cast<uint64_t>(i);
-    publisher.publish(loan.value());
-    if (!await_delivery(received, before, cross_thread, options.gap_us, take_all)) ++result.lost;
-  }
-  stop.store(true);
+  publish_samples(publisher, subscriber, cross_thread, options, state, result);
+  state.stop.store(true);
   if (receiver.joinable()) {
     receiver.join();
     unpin();
     waitset->detachState(subscriber, iox::popo::SubscriberState::HAS_DATA);
   }
   subscriber.releaseQueuedData();
-  samples.summarise(result);
+  state.samples.summarise(result);
   return result;
 }
 

@@ -28,6 +28,16 @@ class LatencySamples {
   std::vector<int64_t> values_ns_;
 };
 
+// What a peer's writing side and its reading side (take_all on the writer's thread, or the
+// reader's thread) share during one case (Fast DDS, iceoryx).
+struct DeliveryState {
+  explicit DeliveryState(size_t capacity) : samples(capacity) {}
+  LatencySamples samples;
+  std::atomic<bool> measuring{false};  // false during warm-up: nothing recorded
+  std::atomic<uint64_t> received{0};   // samples taken so far
+  std::atomic<bool> stop{false};       // ends the reader's thread
+};
+
 // The peers' wait for one sample, after its write (Fast DDS, iceoryx): on this thread,
 // `take_all` until `received` moves past `before`; across threads, spin until the reader's
 // thread moves it, then sleep gap_us. At most 1 s; true when it arrived.
