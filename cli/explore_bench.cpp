@@ -39,7 +39,8 @@ void on_signal(int /*signal*/) {
 }
 
 struct BenchScene {
-  std::string name, family, path, kind;
+  std::string name, family, path;
+  robot::RobotKind kind = robot::RobotKind::kGround;
   double budget_s = 0;
 };
 
@@ -73,7 +74,7 @@ Result<BenchScene, std::string> procedural_scene(scenegen::Family family, uint64
   return BenchScene{.name = name,
                     .family = scenegen::to_string(family),
                     .path = path.string(),
-                    .kind = robot::to_string(scenegen::robot_kind(family)),
+                    .kind = scenegen::robot_kind(family),
                     .budget_s = budget_s};
 }
 
@@ -123,21 +124,24 @@ std::vector<ExploreRun> plan_runs(const std::vector<BenchScene>& scenes, bool qu
                                   const fs::path& out) {
   std::vector<ExploreRun> runs;
   for (const BenchScene& s : scenes) {
+    const bool ground = s.kind == robot::RobotKind::kGround;
     std::vector<size_t> teams =
-        s.kind == "ground" ? std::vector<size_t>{1, 2, 4} : std::vector<size_t>{1, 3, 5};
+        ground ? std::vector<size_t>{1, 2, 4} : std::vector<size_t>{1, 3, 5};
     // quick: the ground pair, both architectures, asserted complete (run_explore_bench);
     // the one multirotor on a short budget, a smoke run: no UAV run completes yet
-    if (quick) teams = s.kind == "ground" ? std::vector<size_t>{2} : std::vector<size_t>{1};
+    if (quick) teams = ground ? std::vector<size_t>{2} : std::vector<size_t>{1};
     for (const size_t n : teams)
-      for (const char* arch : {"single", "centralized", "distributed"}) {
-        if ((n == 1) != (std::string(arch) == "single")) continue;
+      for (const auto& [arch, arch_name] : kArchitectureNames) {
+        if ((n == 1) != (arch == Architecture::kSingle)) continue;
         ExploreRun r{.scene = s.name,
                      .family = s.family,
                      .kind = s.kind,
                      .arch = arch,
                      .robots = n,
                      .budget_s = s.budget_s};
-        r.run_dir = (out / "runs" / (s.name + "_" + arch + "_r" + std::to_string(n))).string();
+        r.run_dir =
+            (out / "runs" / (s.name + "_" + std::string(arch_name) + "_r" + std::to_string(n)))
+                .string();
         runs.push_back(std::move(r));
       }
   }
@@ -153,7 +157,7 @@ bool read_done(ExploreRun& r) {
   const auto text = read_text_file((fs::path(r.run_dir) / "metrics.json").string());
   if (!text) return false;
   auto read = read_explore_metrics(*text, r, r.run_dir + "/metrics.json");
-  if (!read || read->stop_reason == "interrupted") return false;
+  if (!read || read->stop_reason == StopReason::kInterrupted) return false;
   r = std::move(read).value();
   r.exit_status = exit_status;
   return true;
@@ -178,10 +182,10 @@ void finish_run(ExploreRun& r, int status) {
 std::string describe(const ExploreRun& r) {
   if (!r.ran()) return "failed: " + r.error;
   char buf[200];
-  std::snprintf(buf, sizeof buf,
-                "%s at %.1f s, coverage %.1f %% (%.1f %% of the reachable), %.0f s wall",
-                r.stop_reason.c_str(), r.completed() ? r.completion_time_s : r.sim_time_s,
-                100 * r.coverage, 100 * r.coverage_reachable, r.wall_time_s);
+  std::snprintf(
+      buf, sizeof buf, "%s at %.1f s, coverage %.1f %% (%.1f %% of the reachable), %.0f s wall",
+      to_string(r.stop_reason).c_str(), r.completed() ? r.completion_time_s : r.sim_time_s,
+      100 * r.coverage, 100 * r.coverage_reachable, r.wall_time_s);
   return buf;
 }
 
@@ -195,15 +199,16 @@ std::string machine_line() {
 // composed from it), else the thesis's (0.1 m as our ground missions, 0.3 m).
 TargetVoxels profile_voxels() {
   TargetVoxels v;
-  for (auto [kind, voxel] : {std::pair<const char*, double*>{"ground", &v.ground_m},
-                             std::pair<const char*, double*>{"multirotor", &v.multirotor_m}}) {
-    const auto text = read_text_file(std::string("launch_cfg/profiles/") + kind + ".yaml");
+  for (const auto& [kind, kind_name] : robot::kRobotKindNames) {
+    double& voxel = kind == robot::RobotKind::kGround ? v.ground_m : v.multirotor_m;
+    const std::string name(kind_name);
+    const auto text = read_text_file("launch_cfg/profiles/" + name + ".yaml");
     if (!text) continue;
-    const auto root = parse_yaml(*text, kind);
+    const auto root = parse_yaml(*text, name);
     if (!root || !root->IsMap()) continue;
     const YAML::Node value = (*root)["tsdf_mapper"]["voxel_m"];
     try {
-      if (value.IsDefined() && value.IsScalar()) *voxel = value.as<double>();
+      if (value.IsDefined() && value.IsScalar()) voxel = value.as<double>();
     } catch (const YAML::Exception&) {  // not a number: the composed missions refuse it anyway
     }
   }
@@ -214,11 +219,13 @@ TargetVoxels profile_voxels() {
 Result<std::vector<BenchScene>, std::string> bench_scenes(bool quick, const fs::path& out) {
   std::vector<BenchScene> scenes;
   if (!quick) {
-    scenes.push_back({"arena", "arena", "launch_cfg/scenes/test_arena.yaml", "ground", 240});
+    using robot::RobotKind;
     scenes.push_back(
-        {"parking_lot", "parking_lot", "launch_cfg/scenes/parking_lot.yaml", "ground", 1500});
-    scenes.push_back(
-        {"powerplant", "powerplant", "launch_cfg/scenes/powerplant.yaml", "multirotor", 900});
+        {"arena", "arena", "launch_cfg/scenes/test_arena.yaml", RobotKind::kGround, 240});
+    scenes.push_back({"parking_lot", "parking_lot", "launch_cfg/scenes/parking_lot.yaml",
+                      RobotKind::kGround, 1500});
+    scenes.push_back({"powerplant", "powerplant", "launch_cfg/scenes/powerplant.yaml",
+                      RobotKind::kMultirotor, 900});
   }
   for (const auto family : {scenegen::Family::kIndoor, scenegen::Family::kOutdoor}) {
     auto more = procedural_scenes(family, quick, out / "scenes");
@@ -228,7 +235,7 @@ Result<std::vector<BenchScene>, std::string> bench_scenes(bool quick, const fs::
   // the ground robots' scenes first, the powerplant last: a benchmark stopped early (and
   // resumed later) has the cheaper rows filled
   std::stable_partition(scenes.begin(), scenes.end(),
-                        [](const BenchScene& s) { return s.kind == "ground"; });
+                        [](const BenchScene& s) { return s.kind == robot::RobotKind::kGround; });
   std::stable_partition(scenes.begin(), scenes.end(),
                         [](const BenchScene& s) { return s.name != "powerplant"; });
   return scenes;
@@ -273,7 +280,7 @@ pid_t start_run(ExploreRun& r, const std::string& scene_path,
   if (!launch) {
     r.error = launch.error();
     std::fprintf(stderr, "[%5.1f min] %s %s %zu: not started: %s\n", minutes_since(t0),
-                 r.scene.c_str(), r.arch.c_str(), r.robots, r.error.c_str());
+                 r.scene.c_str(), to_string(r.arch).c_str(), r.robots, r.error.c_str());
     return -1;
   }
   const std::string launch_path = (fs::path(r.run_dir) / "launch.yaml").string();
@@ -286,7 +293,7 @@ pid_t start_run(ExploreRun& r, const std::string& scene_path,
     return -1;
   }
   std::fprintf(stderr, "[%5.1f min] start  %s %s %zu (%s)\n", minutes_since(t0), r.scene.c_str(),
-               r.arch.c_str(), r.robots, r.run_dir.c_str());
+               to_string(r.arch).c_str(), r.robots, r.run_dir.c_str());
   return pid;
 }
 
@@ -333,7 +340,8 @@ RunCounts run_all(std::vector<ExploreRun>& runs, const std::vector<BenchScene>& 
     finish_run(r, status);
     ++counts.done;
     std::fprintf(stderr, "[%5.1f min] %zu/%zu  %s %s %zu: %s\n", minutes_since(t0), counts.done,
-                 runs.size(), r.scene.c_str(), r.arch.c_str(), r.robots, describe(r).c_str());
+                 runs.size(), r.scene.c_str(), to_string(r.arch).c_str(), r.robots,
+                 describe(r).c_str());
     write_tables();
     while (g_stop == 0 && running.size() < jobs && start_next()) {
     }
@@ -353,12 +361,14 @@ int check_quick_runs(const std::vector<ExploreRun>& runs) {
   // the reachable surface, no contact
   size_t asserted = 0;
   for (const ExploreRun& r : runs) {
-    if (r.kind != "ground") continue;
+    if (r.kind != robot::RobotKind::kGround) continue;
     ++asserted;
-    const std::string who = r.scene + " " + r.arch + " " + std::to_string(r.robots) + ": ";
+    const std::string who =
+        r.scene + " " + to_string(r.arch) + " " + std::to_string(r.robots) + ": ";
     char problem[128] = "";
     if (!r.completed())
-      std::snprintf(problem, sizeof problem, "did not complete (%s)", r.stop_reason.c_str());
+      std::snprintf(problem, sizeof problem, "did not complete (%s)",
+                    to_string(r.stop_reason).c_str());
     else if (!(r.coverage_reachable >= kQuickMinReachable))
       std::snprintf(problem, sizeof problem, "reachable coverage %.1f %% < %.0f %%",
                     100 * r.coverage_reachable, 100 * kQuickMinReachable);

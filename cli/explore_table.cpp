@@ -34,7 +34,8 @@ std::string csv_number(double v) {
 }
 
 struct Row {
-  std::string family, arch;
+  std::string family;
+  Architecture arch = Architecture::kSingle;
   size_t robots = 0;
   size_t runs = 0, completed = 0, ran = 0, not_run = 0, reached90 = 0, reached95 = 0;
   bool lower_bound = false;
@@ -43,7 +44,7 @@ struct Row {
 
 std::vector<Row> aggregate(const std::vector<ExploreRun>& runs) {
   std::vector<Row> rows;
-  std::map<std::tuple<std::string, size_t, std::string>, size_t> index;
+  std::map<std::tuple<std::string, size_t, Architecture>, size_t> index;
   for (const ExploreRun& r : runs) {
     const auto [it, added] =
         index.emplace(std::make_tuple(r.family, r.robots, r.arch), rows.size());
@@ -132,7 +133,7 @@ Result<ExploreRun, std::string> read_explore_metrics(std::string_view json_text,
 }
 
 std::string check_explore_run(const ExploreRun& r) {
-  const std::string who = r.scene + " " + r.arch + " " + std::to_string(r.robots) + ": ";
+  const std::string who = r.scene + " " + to_string(r.arch) + " " + std::to_string(r.robots) + ": ";
   if (!r.ran()) return who + "did not run (" + r.error + ")";
   if (r.exit_status != 0 && r.exit_status != 3)
     return who + "scancrew run exited with status " + std::to_string(r.exit_status);
@@ -145,7 +146,7 @@ std::string check_explore_run(const ExploreRun& r) {
            " s) does not sum to the mission time (" + csv_number(r.sim_time_s) + " s)";
   if (r.compute_time != "charged")
     return who + "compute_time is '" + r.compute_time + "', not charged";
-  if (r.arch == "single" &&
+  if (r.arch == Architecture::kSingle &&
       std::find(r.places.begin(), r.places.end(), "station") != r.places.end())
     return who + "a single robot's compute was charged on a ground station (run.station)";
   return {};
@@ -159,11 +160,11 @@ std::string format_explore_csv(const std::vector<ExploreRun>& runs) {
   for (const ExploreRun& r : runs) {
     const std::vector<std::string> f = {r.scene,
                                         r.family,
-                                        r.kind,
-                                        r.arch,
+                                        robot::to_string(r.kind),
+                                        to_string(r.arch),
                                         std::to_string(r.robots),
                                         csv_number(r.budget_s),
-                                        not_run(r) ? "not_run" : r.stop_reason,
+                                        not_run(r) ? "not_run" : to_string(r.stop_reason),
                                         std::to_string(r.exit_status),
                                         csv_number(r.completion_time_s),
                                         csv_number(r.sim_time_s),
@@ -202,9 +203,9 @@ std::string format_explore_markdown(const std::vector<ExploreRun>& runs, const s
     const size_t failed = row.runs - row.ran - row.not_run;
     if (failed > 0) runs_cell += " (" + std::to_string(failed) + " failed)";
     if (row.not_run > 0) runs_cell += " (" + std::to_string(row.not_run) + " not run yet)";
-    md += "| " + row.family + " | " + std::to_string(row.robots) + " | " + row.arch + " | " +
-          runs_cell + " | " + (row.lower_bound ? "≥ " : "") + mean_cell(row.time, 1) + " | " +
-          reached_cell(row.t90, row.reached90, row.ran) + " | " +
+    md += "| " + row.family + " | " + std::to_string(row.robots) + " | " + to_string(row.arch) +
+          " | " + runs_cell + " | " + (row.lower_bound ? "≥ " : "") + mean_cell(row.time, 1) +
+          " | " + reached_cell(row.t90, row.reached90, row.ran) + " | " +
           reached_cell(row.t95, row.reached95, row.ran) + " | " + mean_cell(row.coverage, 2) +
           " | " + mean_cell(row.reachable, 2) + " | " + mean_cell(row.rmse, 1) + " | " +
           mean_cell(row.path, 1) + " | " + mean_cell(row.contacts, 1) + " | " +
@@ -231,11 +232,11 @@ std::string format_explore_json(const std::vector<ExploreRun>& runs) {
   for (const ExploreRun& r : runs)
     list.push_back({{"scene", r.scene},
                     {"family", r.family},
-                    {"kind", r.kind},
-                    {"arch", r.arch},
+                    {"kind", robot::to_string(r.kind)},
+                    {"arch", to_string(r.arch)},
                     {"robots", r.robots},
                     {"budget_s", r.budget_s},
-                    {"stop_reason", r.stop_reason},
+                    {"stop_reason", to_string(r.stop_reason)},
                     {"exit_status", r.exit_status},
                     {"completion_time_s", number_or_null(r.completion_time_s)},
                     {"sim_time_s", number_or_null(r.sim_time_s)},
@@ -254,7 +255,7 @@ std::string format_explore_json(const std::vector<ExploreRun>& runs) {
   for (const Row& row : aggregate(runs))
     rows.push_back({{"family", row.family},
                     {"robots", row.robots},
-                    {"arch", row.arch},
+                    {"arch", to_string(row.arch)},
                     {"runs", row.runs},
                     {"completed", row.completed},
                     {"time_s", number_or_null(mean_std(row.time).mean)},

@@ -13,8 +13,10 @@
 #include <string_view>
 #include <vector>
 
+#include "cli/choices.hpp"
 #include "cli/sweep_table.hpp"
 #include "core/result.hpp"
+#include "core/robot/robot_kind.hpp"
 
 namespace scancrew::cli {
 
@@ -22,14 +24,14 @@ struct ExploreRun {
   // what was run
   std::string scene;   // its name: arena, parking_lot, powerplant, indoor_3, ...
   std::string family;  // thesis scenes: their own name; procedural: indoor, outdoor
-  std::string kind;    // ground | multirotor
-  std::string arch;    // single | centralized | distributed
+  robot::RobotKind kind = robot::RobotKind::kGround;
+  Architecture arch = Architecture::kSingle;
   size_t robots = 0;
   double budget_s = 0;
   std::string run_dir;
   int exit_status = -1;  // of `scancrew run`; -1: not run
-  // what metrics.json says (kNoValue when absent); stop_reason "failed" without it
-  std::string stop_reason = "failed";
+  // what metrics.json says (kNoValue when absent); stop_reason kFailed without it
+  StopReason stop_reason = StopReason::kFailed;
   std::string error;
   double completion_time_s = kNoValue;
   double sim_time_s = kNoValue;
@@ -45,12 +47,12 @@ struct ExploreRun {
   std::string compute_time;
   std::vector<std::string> places;  // the computers compute was charged on (metrics.json)
 
-  bool completed() const { return stop_reason == "complete"; }
-  bool ran() const { return stop_reason != "failed" && !stop_reason.empty(); }
+  bool completed() const { return stop_reason == StopReason::kComplete; }
+  bool ran() const { return stop_reason != StopReason::kFailed; }
 };
 
 // run with the fields of a metrics.json text filled in; an error naming label if it is not
-// a JSON object with a stop_reason.
+// a JSON object with a stop_reason kStopReasonNames names.
 Result<ExploreRun, std::string> read_explore_metrics(std::string_view json_text, ExploreRun run,
                                                      const std::string& label);
 

@@ -1,5 +1,6 @@
 #include "cli/explore_targets.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -8,18 +9,22 @@ namespace scancrew::cli {
 
 namespace {
 
+// the architectures of a team of more than one robot
+constexpr std::array<Architecture, 2> kTeamArchitectures = {Architecture::kCentralized,
+                                                            Architecture::kDistributed};
+
 std::string fixed(double v, int decimals) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
   return buf;
 }
 
-std::string name_of(const ExploreRun& r) {
-  return r.scene + " " + r.arch + " " + std::to_string(r.robots);
+std::string run_name(const ExploreRun& r) {
+  return r.scene + " " + to_string(r.arch) + " " + std::to_string(r.robots);
 }
 
 const ExploreRun* find(const std::vector<ExploreRun>& runs, const std::string& scene, size_t robots,
-                       const std::string& arch) {
+                       Architecture arch) {
   for (const ExploreRun& r : runs)
     if (r.scene == scene && r.robots == robots && r.arch == arch && r.ran()) return &r;
   return nullptr;
@@ -44,8 +49,8 @@ bool procedural(const ExploreRun& r) {
 // A thesis scene's run against a time and a coverage: met when it completes by time_s with
 // at least min_coverage of all the surface.
 TargetRow thesis_time(const std::vector<ExploreRun>& runs, const std::string& target,
-                      const std::string& scene, size_t robots, const std::string& arch,
-                      double time_s, double min_coverage) {
+                      const std::string& scene, size_t robots, Architecture arch, double time_s,
+                      double min_coverage) {
   const ExploreRun* r = find(runs, scene, robots, arch);
   if (r == nullptr) return {target, "not run", false};
   return {target,
@@ -70,7 +75,8 @@ void every_run_rows(const std::vector<const ExploreRun*>& ran, const TargetVoxel
     if (std::isfinite(r->coverage_reachable) &&
         (least == nullptr || r->coverage_reachable < least->coverage_reachable))
       least = r;
-    const double voxel = r->kind == "multirotor" ? voxels.multirotor_m : voxels.ground_m;
+    const double voxel =
+        r->kind == robot::RobotKind::kMultirotor ? voxels.multirotor_m : voxels.ground_m;
     const double rmse_voxels = r->rmse_m / voxel;
     accurate += rmse_voxels <= 1.5 ? 1 : 0;
     if (std::isfinite(rmse_voxels) && (coarsest == nullptr || rmse_voxels > worst_rmse_voxels)) {
@@ -86,20 +92,20 @@ void every_run_rows(const std::vector<const ExploreRun*>& ran, const TargetVoxel
   rows.push_back({"reachable coverage ≥ 95 % in every run",
                   std::to_string(covered) + of_n +
                       (least ? "; least " + fixed(100 * least->coverage_reachable, 1) + " % (" +
-                                   name_of(*least) + ")"
+                                   run_name(*least) + ")"
                              : ""),
                   all && covered == ran.size()});
   rows.push_back({"RMSE within 1.5 voxels of the planning map",
                   std::to_string(accurate) + of_n +
                       (coarsest ? "; largest " + fixed(worst_rmse_voxels, 2) + " voxels (" +
-                                      name_of(*coarsest) + ")"
+                                      run_name(*coarsest) + ")"
                                 : ""),
                   all && accurate == ran.size()});
   rows.push_back({"0 contacts",
                   std::to_string(clean) + of_n +
                       (most_contacts && most_contacts->contacts > 0
                            ? "; most " + fixed(most_contacts->contacts, 0) + " (" +
-                                 name_of(*most_contacts) + ")"
+                                 run_name(*most_contacts) + ")"
                            : ""),
                   all && clean == ran.size()});
 }
@@ -108,21 +114,21 @@ void every_run_rows(const std::vector<const ExploreRun*>& ran, const TargetVoxel
 void thesis_rows(const std::vector<ExploreRun>& runs, std::vector<TargetRow>& rows) {
   // the thesis's scenes
   rows.push_back(thesis_time(runs, "powerplant, 3 UAVs, TSGA: complete ≤ 620 s, coverage ≥ 91 %",
-                             "powerplant", 3, "centralized", 620, 0.91));
+                             "powerplant", 3, Architecture::kCentralized, 620, 0.91));
   rows.push_back(thesis_time(runs,
                              "powerplant, 3 UAVs, dist-TSGA: complete ≤ 596 s, coverage ≥ 95.9 %",
-                             "powerplant", 3, "distributed", 596, 0.959));
-  for (const char* arch : {"centralized", "distributed"})
+                             "powerplant", 3, Architecture::kDistributed, 596, 0.959));
+  for (const Architecture arch : kTeamArchitectures)
     rows.push_back(thesis_time(runs,
-                               std::string("powerplant, 5 UAVs, ") + arch + ": complete ≤ 369 s",
+                               "powerplant, 5 UAVs, " + to_string(arch) + ": complete ≤ 369 s",
                                "powerplant", 5, arch, 369, 0));
-  if (const ExploreRun* one = find(runs, "parking_lot", 1, "single")) {
+  if (const ExploreRun* one = find(runs, "parking_lot", 1, Architecture::kSingle)) {
     rows.push_back({"parking lot, 1 robot: complete ≤ 836 s, total path ≤ 160 m",
                     ending(*one) + ", path " + fixed(one->total_path_m, 0) + " m",
                     one->completed() && one->completion_time_s <= 836 && one->total_path_m <= 160});
-    for (const char* arch : {"centralized", "distributed"}) {
+    for (const Architecture arch : kTeamArchitectures) {
       const std::string target =
-          std::string("parking lot, 4 robots, ") + arch + ": ≤ 30 % of one robot's time";
+          "parking lot, 4 robots, " + to_string(arch) + ": ≤ 30 % of one robot's time";
       const ExploreRun* four = find(runs, "parking_lot", 4, arch);
       if (four == nullptr) {
         rows.push_back({target, "not run", false});
@@ -149,14 +155,14 @@ void thesis_rows(const std::vector<ExploreRun>& runs, std::vector<TargetRow>& ro
 void procedural_share_rows(const std::vector<ExploreRun>& runs, std::vector<TargetRow>& rows) {
   // procedural scenes: four robots against one, to 95 % of the reachable surface; over the
   // scenes that have a team of four (the ground robots' families: multirotors fly 3 and 5)
-  for (const char* arch : {"centralized", "distributed"}) {
-    const std::string target = std::string("procedural, 4 robots, ") + arch +
+  for (const Architecture arch : kTeamArchitectures) {
+    const std::string target = "procedural, 4 robots, " + to_string(arch) +
                                ": 95 % of the reachable surface in ≤ 35 % of one robot's "
                                "time (mean over the scenes)";
     double sum = 0;
     size_t n = 0, scenes = 0, bounded = 0, never = 0;
     for (const ExploreRun& r : runs) {
-      if (!procedural(r) || r.robots != 1 || r.arch != "single" || !r.ran()) continue;
+      if (!procedural(r) || r.robots != 1 || r.arch != Architecture::kSingle || !r.ran()) continue;
       const ExploreRun* four = find(runs, r.scene, 4, arch);
       if (four == nullptr) continue;  // no team of four in this family (or not run)
       ++scenes;
@@ -205,7 +211,7 @@ TargetRow tail_row(const std::vector<const ExploreRun*>& ran) {
   return {
       "procedural: the time from 90 % to completion ≤ the time from 0 to 90 %",
       std::to_string(short_tails) + " of " + std::to_string(tails) + " completed runs" +
-          (longest ? "; longest tail " + fixed(longest_ratio, 2) + " × (" + name_of(*longest) + ")"
+          (longest ? "; longest tail " + fixed(longest_ratio, 2) + " × (" + run_name(*longest) + ")"
                    : ""),
       tails > 0 && short_tails == tails};
 }
@@ -213,9 +219,8 @@ TargetRow tail_row(const std::vector<const ExploreRun*>& ran) {
 // Appends, per architecture, the powerplant's five-UAV real-time target.
 void real_time_rows(const std::vector<ExploreRun>& runs, std::vector<TargetRow>& rows) {
   // compute at team size: five UAVs in real time or faster
-  for (const char* arch : {"centralized", "distributed"}) {
-    const std::string target =
-        std::string("powerplant, 5 UAVs, ") + arch + ": real-time factor ≥ 1";
+  for (const Architecture arch : kTeamArchitectures) {
+    const std::string target = "powerplant, 5 UAVs, " + to_string(arch) + ": real-time factor ≥ 1";
     const ExploreRun* five = find(runs, "powerplant", 5, arch);
     if (five == nullptr || !(five->wall_time_s > 0)) {
       rows.push_back({target, "not run", false});

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <map>
 
+#include "components/tsdf_mapper/tsdf_mapper.hpp"
 #include "core/io/ply.hpp"
 #include "eval/team_reachable.hpp"
 #include "executors/log.hpp"
@@ -70,7 +71,7 @@ std::vector<MeshScore> mapper_meshes(const RunSummary& summary, const MissionMon
     MeshScore s;
     // a centralized mapper is the ground station's; the others are a robot's
     s.robot_ns = "station";
-    if (map.mode != "centralized")
+    if (map.mode != name_of(tsdf_mapper::kMapModeNames, tsdf_mapper::MapMode::kCentralized))
       for (const auto& r : monitor.robots())
         if (r.id == map.robot_id) s.robot_ns = r.ns;
     s.mesh_path = map.mesh_path;

@@ -42,8 +42,9 @@ YAML::Node flow_vector(const msg::Vec3& v) {
 // The graph of an architecture, before the profile's parameters.
 std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::SceneSpec& scene,
                                               bool masked) {
-  const bool centralized = s.arch == "centralized";
-  const bool single = s.arch == "single";
+  const bool centralized = s.arch == Architecture::kCentralized;
+  const bool single = s.arch == Architecture::kSingle;
+  const bool distributed = s.arch == Architecture::kDistributed;
   std::vector<ComponentPlan> g;
   ComponentPlan sim{.name = "team_simulator", .type = "team_simulator", .per_robot = false};
   sim.params["scene"] = s.scene_path;
@@ -53,14 +54,14 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   if (masked) g.push_back({.name = "depth_mask", .type = "depth_mask"});
 
   ComponentPlan mapper{.name = "tsdf_mapper", .type = "tsdf_mapper", .per_robot = !centralized};
-  mapper.params["mode"] = s.arch;
+  mapper.params["mode"] = to_string(s.arch);
   if (masked) mapper.params["depth_topic"] = "depth_masked";
   // with a reconstruction map, mesh.ply is its mesh (cli/mesh_scores.cpp, best_mesh) and the
   // planning map's is kept beside it
-  mapper.params["mesh_path"] = s.arch == "distributed"        ? "{out}/mesh_{ns}.ply"
+  mapper.params["mesh_path"] = distributed                    ? "{out}/mesh_{ns}.ply"
                                : s.reconstruction_voxel_m > 0 ? "{out}/mesh_map.ply"
                                                               : "{out}/mesh.ply";
-  mapper.params["octomap_path"] = s.arch == "distributed" ? "{out}/map_{ns}.bt" : "{out}/map.bt";
+  mapper.params["octomap_path"] = distributed ? "{out}/map_{ns}.bt" : "{out}/map.bt";
   g.push_back(mapper);
   if (s.reconstruction_voxel_m > 0) {
     // the reconstruction: the same depth in a finer map whose mesh is the result (the
@@ -68,7 +69,7 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
     // multirotors' 8 m range 3 sigma of the depth noise is 0.47 m (docs/missions.md, "A finer
     // reconstruction map"). Nothing reads its map topic, renamed so no planner takes it.
     ComponentPlan recon{.name = "recon", .type = "tsdf_mapper", .per_robot = !centralized};
-    recon.params["mode"] = s.arch;
+    recon.params["mode"] = to_string(s.arch);
     if (masked) recon.params["depth_topic"] = "depth_masked";
     recon.params["voxel_m"] = number(s.reconstruction_voxel_m);
     recon.params["truncation_m"] = number(5 * s.reconstruction_voxel_m);
@@ -88,7 +89,7 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   ComponentPlan planner{.name = "high_level_planner",
                         .type = "high_level_planner",
                         .per_robot = !centralized && !single};
-  planner.params["algorithm"] = s.arch == "distributed" ? "dist_tsga" : "tsga";
+  planner.params["algorithm"] = distributed ? "dist_tsga" : "tsga";
   if (single) {
     // the one robot's clusters and ISEs, as launch_cfg/missions/parking_lot_1_single.yaml
     planner.remap["clusters"] = "/r1/clusters";
@@ -97,7 +98,7 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   g.push_back(planner);
 
   ComponentPlan low{.name = "low_level_planner", .type = "low_level_planner"};
-  low.params["redundancy_check"] = s.arch == "distributed";
+  low.params["redundancy_check"] = distributed;
   if (centralized) {
     low.remap["plan"] = "/plan";
     low.remap["map"] = "/map";
@@ -125,19 +126,15 @@ void merge_section(const YAML::Node& profile, const std::string& key, YAML::Node
   }
 }
 
-// Refuses a spec whose kind, architecture, reconstruction map or team size does not fit.
+// Refuses a spec whose reconstruction map or team size does not fit its architecture.
 Result<void, std::string> check_spec(const MissionSpec& s) {
-  if (s.kind != "ground" && s.kind != "multirotor")
-    return make_unexpected("robot kind '" + s.kind + "': allowed: ground, multirotor");
-  if (s.arch != "single" && s.arch != "centralized" && s.arch != "distributed")
-    return make_unexpected("architecture '" + s.arch +
-                           "': allowed: single, centralized, distributed");
-  if (s.reconstruction_voxel_m > 0 && s.arch == "distributed")
+  if (s.reconstruction_voxel_m > 0 && s.arch == Architecture::kDistributed)
     return make_unexpected(
         "reconstruction_voxel_m: a distributed team has no map that all the depth reaches; "
         "single or centralized only");
-  if (s.robots == 0 || (s.arch == "single" && s.robots != 1))
-    return make_unexpected("architecture " + s.arch + " with " + std::to_string(s.robots) +
+  if (s.robots == 0 || (s.arch == Architecture::kSingle && s.robots != 1))
+    return make_unexpected("architecture " + to_string(s.arch) + " with " +
+                           std::to_string(s.robots) +
                            " robots: single takes 1, the others 1 or more");
   return {};
 }
@@ -157,9 +154,11 @@ Result<YAML::Node, std::string> read_profile(const std::string& profile_path) {
   for (const auto& kv : *profile) {
     const std::string key = kv.first.Scalar();
     bool known = false;
-    for (const std::string_view n : kNames)
-      for (const char* a : {"", "_single", "_centralized", "_distributed"})
-        known = known || key == std::string(n) + a;
+    for (const std::string_view n : kNames) {
+      known = known || key == n;
+      for (const auto& [arch, arch_name] : kArchitectureNames)
+        known = known || key == std::string(n) + "_" + std::string(arch_name);
+    }
     if (!known || !kv.second.IsMap())
       return make_unexpected(yaml_location(profile_path, kv.first) + ": '" + key +
                              "' is no component of a mission (a mapping of its parameters); "
@@ -179,16 +178,16 @@ YAML::Node run_section(const MissionSpec& s) {
   run["progress_period_s"] = number(20.0);
   if (!s.compute_time.empty()) run["compute_time"] = s.compute_time;
   // one robot alone has no ground station: its map, ISEs and plans run on board
-  if (s.arch == "single") run["station"] = false;
+  if (s.arch == Architecture::kSingle) run["station"] = false;
   return run;
 }
 
 // The launch file's entry of robot i (from 0), at the scene's start pose.
-YAML::Node robot_entry(size_t i, const std::string& kind, const sim::StartPose& start_pose) {
+YAML::Node robot_entry(size_t i, robot::RobotKind kind, const sim::StartPose& start_pose) {
   YAML::Node r(YAML::NodeType::Map);
   r["id"] = i + 1;
   r["namespace"] = "r" + std::to_string(i + 1);
-  r["kind"] = kind;
+  r["kind"] = robot::to_string(kind);
   YAML::Node start(YAML::NodeType::Sequence);
   start.SetStyle(YAML::EmitterStyle::Flow);
   start.push_back(number(start_pose.position_m.x));
@@ -215,7 +214,7 @@ YAML::Node component_entry(ComponentPlan& c, const MissionSpec& s, YAML::Node& p
     }
   }
   merge_section(profile, section, c.params);
-  merge_section(profile, section + "_" + s.arch, c.params);
+  merge_section(profile, section + "_" + to_string(s.arch), c.params);
   YAML::Node n(YAML::NodeType::Map);
   if (c.name != c.type) n["name"] = c.name;  // one of its type: named by it
   n["type"] = c.type;
@@ -223,6 +222,49 @@ YAML::Node component_entry(ComponentPlan& c, const MissionSpec& s, YAML::Node& p
   if (c.remap.IsDefined() && c.remap.IsMap()) n["remap"] = c.remap;
   if (c.params.size() > 0) n["params"] = c.params;
   return n;
+}
+
+// The value of `names` that v names; an error (after `where`) listing the names if none.
+template <class E, size_t N>
+Result<E, std::string> named(const YAML::Node& v, const EnumNames<E, N>& names,
+                             const std::string& where) {
+  const std::string name = v.as<std::string>();
+  if (const auto value = value_of(names, name)) return *value;
+  return make_unexpected(where + ": '" + name +
+                         "' is not allowed; allowed: " + joined_names(names));
+}
+
+// Reads the mission file's `key: v` into spec; what is wrong (after `where`) if it cannot.
+Result<void, std::string> read_mission_key(MissionSpec& spec, const std::string& key,
+                                           const YAML::Node& v, const std::string& where) {
+  try {
+    if (key == "scene") {
+      spec.scene_path = v.as<std::string>();
+    } else if (key == "kind") {
+      auto kind = named(v, robot::kRobotKindNames, where);
+      if (!kind) return make_unexpected(kind.error());
+      spec.kind = *kind;
+    } else if (key == "robots") {
+      spec.robots = v.as<size_t>();
+    } else if (key == "architecture") {
+      auto arch = named(v, kArchitectureNames, where);
+      if (!arch) return make_unexpected(arch.error());
+      spec.arch = *arch;
+    } else if (key == "duration_s") {
+      spec.duration_s = v.as<double>();
+    } else if (key == "seed") {
+      spec.seed = v.as<int>();
+    } else if (key == "reconstruction_voxel_m") {
+      spec.reconstruction_voxel_m = v.as<double>();
+    } else {
+      return make_unexpected(where +
+                             ": unknown key; allowed: scene, kind, robots, architecture, "
+                             "duration_s, seed, reconstruction_voxel_m");
+    }
+  } catch (const YAML::Exception&) {
+    return make_unexpected(where + ": not a valid value");
+  }
+  return {};
 }
 
 }  // namespace
@@ -235,13 +277,15 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
     for (const auto& e : scene.error()) all += (all.empty() ? "" : "; ") + e;
     return make_unexpected(all);
   }
-  const auto& starts = s.kind == "ground" ? scene->starts.ground : scene->starts.multirotor;
+  const std::string kind = robot::to_string(s.kind);
+  const auto& starts =
+      s.kind == robot::RobotKind::kGround ? scene->starts.ground : scene->starts.multirotor;
   if (starts.size() < s.robots)
-    return make_unexpected(s.scene_path + ": starts." + s.kind + " lists " +
+    return make_unexpected(s.scene_path + ": starts." + kind + " lists " +
                            std::to_string(starts.size()) + " start(s), the team has " +
                            std::to_string(s.robots) + " robots");
   const std::string profile_path =
-      s.profile_path.empty() ? s.profile_root + "/" + s.kind + ".yaml" : s.profile_path;
+      s.profile_path.empty() ? s.profile_root + "/" + kind + ".yaml" : s.profile_path;
   auto profile = read_profile(profile_path);
   if (!profile) return make_unexpected(profile.error());
 
@@ -256,8 +300,8 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   YAML::Emitter out;
   out << root;
   return "# composed by scancrew from scene " + s.scene_path + ", " + std::to_string(s.robots) +
-         " " + s.kind + " robot(s), " + s.arch + ", profile " + profile_path + "\n" + out.c_str() +
-         "\n";
+         " " + kind + " robot(s), " + to_string(s.arch) + ", profile " + profile_path + "\n" +
+         out.c_str() + "\n";
 }
 
 Result<std::string, std::string> launch_file_text(const std::string& path, size_t robots) {
@@ -275,30 +319,9 @@ Result<std::string, std::string> launch_file_text(const std::string& path, size_
   MissionSpec spec;
   for (const auto& kv : m) {
     const std::string key = kv.first.Scalar();
-    const YAML::Node& v = kv.second;
     const std::string where = yaml_location(path, kv.first) + ": mission." + key;
-    try {
-      if (key == "scene")
-        spec.scene_path = v.as<std::string>();
-      else if (key == "kind")
-        spec.kind = v.as<std::string>();
-      else if (key == "robots")
-        spec.robots = v.as<size_t>();
-      else if (key == "architecture")
-        spec.arch = v.as<std::string>();
-      else if (key == "duration_s")
-        spec.duration_s = v.as<double>();
-      else if (key == "seed")
-        spec.seed = v.as<int>();
-      else if (key == "reconstruction_voxel_m")
-        spec.reconstruction_voxel_m = v.as<double>();
-      else
-        return make_unexpected(where +
-                               ": unknown key; allowed: scene, kind, robots, architecture, "
-                               "duration_s, seed, reconstruction_voxel_m");
-    } catch (const YAML::Exception&) {
-      return make_unexpected(where + ": not a valid value");
-    }
+    if (auto read = read_mission_key(spec, key, kv.second, where); !read)
+      return make_unexpected(read.error());
   }
   for (const char* required : {"scene", "kind", "robots", "architecture"})
     if (!m[required].IsDefined())

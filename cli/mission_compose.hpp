@@ -9,22 +9,24 @@
 // nothing else: no per-scene parameter. Teams of more than one robot blank their teammates
 // out of the depth (depth_mask).
 //
-// compose_mission() returns the launch file's text (YAML), or what is wrong (an unknown kind
-// or architecture, a scene that cannot be read or lists fewer starts than robots, a profile
-// that cannot be read).
+// compose_mission() returns the launch file's text (YAML), or what is wrong (a team size or a
+// reconstruction map the architecture does not take, a scene that cannot be read or lists
+// fewer starts than robots, a profile that cannot be read).
 
 #include <cstddef>
 #include <string>
 
+#include "cli/choices.hpp"
 #include "core/result.hpp"
+#include "core/robot/robot_kind.hpp"
 
 namespace scancrew::cli {
 
 struct MissionSpec {
   std::string scene_path;
-  std::string kind = "ground";  // ground | multirotor
+  robot::RobotKind kind = robot::RobotKind::kGround;
   size_t robots = 1;
-  std::string arch = "distributed";  // single | centralized | distributed
+  Architecture arch = Architecture::kDistributed;
   double duration_s = 600;
   int seed = 1;  // the simulator's and the low-level planners' seed
   // > 0: a second, finer TSDF map of the same depth (component `recon`) whose mesh is the
@@ -43,8 +45,10 @@ Result<std::string, std::string> compose_mission(const MissionSpec& spec);
 //   mission: {scene: launch_cfg/scenes/parking_lot.yaml, kind: ground, robots: 2,
 //             architecture: distributed, duration_s: 900, seed: 1}
 // scene, kind, robots and architecture are required; duration_s (600), seed (1) and
-// reconstruction_voxel_m (none) are not; any other key is an error naming it. `robots` > 0
-// (scancrew run --robots N) composes a mission file with N robots instead of its own count.
+// reconstruction_voxel_m (none) are not; any other key, and a kind or an architecture that
+// its table (kRobotKindNames, kArchitectureNames) does not name, is an error naming it.
+// `robots` > 0 (scancrew run --robots N) composes a mission file with N robots instead of its
+// own count.
 // scancrew run and graph read launch files through it.
 Result<std::string, std::string> launch_file_text(const std::string& path, size_t robots = 0);
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "cli/choices.hpp"
 #include "cli/commands.hpp"
 #include "executors/log.hpp"
 #include "sim/png_writer.hpp"
@@ -17,7 +18,7 @@ sim::RobotSpec make_robot(const RenderOptions& o, double x, double y, double yaw
   sim::RobotSpec r;
   r.id = 1;
   r.name = "viewer";
-  r.kind = o.kind == "multirotor" ? robot::RobotKind::kMultirotor : robot::RobotKind::kGround;
+  r.kind = o.kind;
   r.start_x_m = x;
   r.start_y_m = y;
   r.start_z_m = o.z_m;
@@ -143,8 +144,16 @@ void add_render_command(CLI::App& app, CommandTable& table) {
   render->add_option("--pose", o->pose, "x,y,yaw_deg of the robot (default: a free corner)")
       ->delimiter(',')
       ->expected(3);
-  render->add_option("--kind", o->kind, "robot kind")
-      ->check(CLI::IsMember({"ground", "multirotor"}));
+  RenderOptions* options = o;  // o, a structured binding, is no lambda capture for clang < 16
+  render
+      ->add_option_function<std::string>(
+          "--kind",
+          [options](const std::string& name) {
+            // IsMember has checked the name
+            options->kind = value_of(robot::kRobotKindNames, name).value_or(options->kind);
+          },
+          "robot kind")
+      ->check(CLI::IsMember(name_list(robot::kRobotKindNames)));
   render->add_option("--z", o->z_m, "multirotor altitude, m");
   render->add_option("--width", o->width, "image width")->check(CLI::Range(16u, 1920u));
   render->add_option("--height", o->height, "image height (with the width, sets the FOV aspect)")

@@ -7,13 +7,15 @@
 #include <string>
 #include <vector>
 
+#include "core/robot/robot_kind.hpp"
+
 namespace scancrew::cli {
 
 struct RenderOptions {
   std::string scene_path;
   std::string out_dir;
   std::vector<double> pose;  // x, y, yaw_deg; empty: a free corner facing the centre
-  std::string kind = "ground";
+  robot::RobotKind kind = robot::RobotKind::kGround;
   double z_m = 1.5;  // multirotor altitude
   unsigned width = 640, height = 370;
 };

@@ -160,15 +160,27 @@ bool print_failures(Launch& launch) {
   return true;
 }
 
+// The stop reason of a monitor that finished ("complete", "stalled"); a reason the table does
+// not name (a monitor that learned a new one) is said and recorded as stalled: not complete.
+StopReason stop_reason_of(const MissionMonitor& monitor) {
+  const std::string name = monitor.stop_reason();
+  if (const auto reason = value_of(kStopReasonNames, name)) return *reason;
+  std::fprintf(stderr,
+               "scancrew run: the mission monitor stopped for '%s', which no stop reason names "
+               "(%s); recorded as stalled\n",
+               name.c_str(), joined_names(kStopReasonNames).c_str());
+  return StopReason::kStalled;
+}
+
 // The end of a mission: its run directory, and the exit status (docs/missions.md, "Exit
 // status").
 int finish_mission(Launch& launch, MissionMonitor& monitor, RunFacts& run, bool interrupted,
                    const fs::path& out) {
   print_mission_progress(monitor, run.sim_s, launch.settings().duration_s, run.wall_s, true);
   monitor.close_time_breakdown();
-  run.stop_reason = monitor.finished() ? monitor.stop_reason()
-                    : interrupted      ? "interrupted"
-                                       : "time_budget";
+  run.stop_reason = monitor.finished() ? stop_reason_of(monitor)
+                    : interrupted      ? StopReason::kInterrupted
+                                       : StopReason::kTimeBudget;
   // the per-topic table goes to the run directory; the terminal gets the summary
   if (std::FILE* f = std::fopen((out / "topics.txt").c_str(), "w"); f != nullptr) {
     print_topic_stats(f, launch.graph());
@@ -187,7 +199,7 @@ int finish_mission(Launch& launch, MissionMonitor& monitor, RunFacts& run, bool 
   }
   // docs/missions.md, "Exit status"
   if (print_failures(launch)) return 4;
-  if (run.stop_reason == "complete") return 0;
+  if (run.stop_reason == StopReason::kComplete) return 0;
   return interrupted ? 130 : 3;
 }
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/mesh_scores.hpp"
+#include "components/tsdf_mapper/tsdf_mapper.hpp"
 #include "executors/log.hpp"
 #include "executors/trace.hpp"
 #include "report/run_files.hpp"
@@ -111,7 +112,7 @@ void copy_best_mesh(const std::vector<MeshScore>& scores, const MeshScore* best,
 
 // The architecture (the mappers' mode) and the patches' wire bytes the mappers sent.
 struct Exchange {
-  std::string architecture = "single";
+  std::string architecture{name_of(tsdf_mapper::kMapModeNames, tsdf_mapper::MapMode::kSingle)};
   uint64_t patch_bytes = 0;
 };
 Exchange exchange_of(const RunSummary& summary) {
@@ -132,8 +133,8 @@ Json run_metrics(const MissionMonitor& monitor, const RunFacts& run,
   m["scene"] = monitor.config().scene;
   m["architecture"] = architecture;
   m["started"] = run.started;
-  m["completed"] = run.stop_reason == "complete";
-  m["stop_reason"] = run.stop_reason;
+  m["completed"] = run.stop_reason == StopReason::kComplete;
+  m["stop_reason"] = to_string(run.stop_reason);
   const auto completion = monitor.completion_time_s();
   m["completion_time_s"] = completion ? Json(*completion) : Json(nullptr);
   m["sim_time_s"] = run.sim_s;
@@ -216,14 +217,25 @@ bool add_trace(Json& m, const Tracer& tracer, const fs::path& out) {
   return static_cast<bool>(written);
 }
 
+// How the summary line says a mission ended.
+std::string ending_of(StopReason reason) {
+  switch (reason) {
+    case StopReason::kComplete:
+    case StopReason::kStalled:
+    case StopReason::kInterrupted:
+      return to_string(reason);
+    case StopReason::kTimeBudget:
+    case StopReason::kFailed:
+      break;
+  }
+  return "out of time";
+}
+
 // The line `scancrew run` ends with: how the mission ended, its coverage and contacts.
 void print_summary(const RunFacts& run, const MeshScore* best, const RunSummary::Contacts& contacts,
                    const fs::path& out) {
-  const char* how = run.stop_reason == "complete"      ? "complete"
-                    : run.stop_reason == "stalled"     ? "stalled"
-                    : run.stop_reason == "interrupted" ? "interrupted"
-                                                       : "out of time";
-  std::printf("mission %s after %.1f s simulated (%.1f s wall)", how, run.sim_s, run.wall_s);
+  std::printf("mission %s after %.1f s simulated (%.1f s wall)", ending_of(run.stop_reason).c_str(),
+              run.sim_s, run.wall_s);
   const eval::ReconstructionError* e = best && best->error ? &*best->error : nullptr;
   if (e) std::printf("; coverage %.2f %% (map of %s)", 100 * e->coverage, best->from.c_str());
   if (e && std::isfinite(best->coverage_reachable))
@@ -269,8 +281,10 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   // distributed: the completed patches the robots sent (their wire size). Centralized: the
   // depth images and poses to the station, which an in-process run does not serialise, so
   // not measured here (null), rather than a 0 that would read as "nothing sent".
-  m["data_exchanged_bytes"] =
-      exchange.architecture == "centralized" ? Json(nullptr) : Json(exchange.patch_bytes);
+  m["data_exchanged_bytes"] = exchange.architecture == name_of(tsdf_mapper::kMapModeNames,
+                                                               tsdf_mapper::MapMode::kCentralized)
+                                  ? Json(nullptr)
+                                  : Json(exchange.patch_bytes);
   m["collisions"] = contacts.robot_robot + contacts.robot_scene;
   m["contacts"] = {{"robot_robot", contacts.robot_robot}, {"robot_scene", contacts.robot_scene}};
   m["replans"] = replans;

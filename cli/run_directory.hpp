@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "cli/choices.hpp"
 #include "components/mission_monitor/mission_monitor.hpp"
 #include "executors/launch.hpp"
 
@@ -14,7 +15,8 @@ namespace scancrew::cli {
 
 // What the run itself knows, beyond the launch and the monitor.
 struct RunFacts {
-  std::string launch_path, started, stop_reason;
+  std::string launch_path, started;
+  StopReason stop_reason = StopReason::kTimeBudget;
   std::filesystem::file_time_type started_at;
   double sim_s = 0, wall_s = 0;
 };

@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <array>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -24,9 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// the architectures, in the order a sweep runs them when --arch does not say
-constexpr std::array<const char*, 3> kArchitectures = {"single", "centralized", "distributed"};
-
 volatile std::sig_atomic_t g_stop = 0;
 volatile pid_t g_child = 0;  // the `scancrew run` now running; 0: none
 
@@ -42,7 +38,7 @@ void on_signal(int signal) {
 }
 
 struct SweepPlan {
-  std::map<std::string, std::string> launch_of;  // architecture -> launch file
+  std::map<Architecture, std::string> launch_of;  // architecture -> launch file
   std::vector<std::string> seed_keys;
   bool sweep_file = false;
 };
@@ -75,9 +71,10 @@ Result<SweepPlan, std::string> read_plan(const std::string& path) {
   else
     for (const auto& kv : archs) {
       const std::string arch = kv.first.Scalar();
-      if (std::find(kArchitectures.begin(), kArchitectures.end(), arch) == kArchitectures.end())
+      const auto value = value_of(kArchitectureNames, arch);
+      if (!value)
         errors.push_back(yaml_location(path, kv.first) + ": architectures." + arch +
-                         ": unknown architecture; allowed: single, centralized, distributed");
+                         ": unknown architecture; allowed: " + joined_names(kArchitectureNames));
       else if (!kv.second.IsScalar() || kv.second.Scalar().empty())
         errors.push_back(yaml_location(path, kv.second) + ": architectures." + arch +
                          ": must be a launch file");
@@ -86,7 +83,7 @@ Result<SweepPlan, std::string> read_plan(const std::string& path) {
                          kv.second.Scalar() + "' is not a file (paths are relative to the " +
                          "working directory)");
       else
-        plan.launch_of[arch] = kv.second.Scalar();
+        plan.launch_of[*value] = kv.second.Scalar();
     }
   if (!errors.empty()) return make_unexpected(join(errors, "\n  "));
   return plan;
@@ -125,7 +122,8 @@ TeamSize team_size(const std::string& launch_path) {
 }
 
 struct PlannedRun {
-  std::string arch, launch;
+  Architecture arch = Architecture::kSingle;
+  std::string launch;
   size_t robots = 0;
   int seed = 0;
 };
@@ -159,7 +157,7 @@ SweepRun run_one(const PlannedRun& p, const SweepOptions& o, const std::vector<s
                  const fs::path& out) {
   SweepRun run{.arch = p.arch, .robots = p.robots, .seed = p.seed};
   const fs::path dir =
-      out / (p.arch + "_r" + std::to_string(p.robots) + "_s" + std::to_string(p.seed));
+      out / (to_string(p.arch) + "_r" + std::to_string(p.robots) + "_s" + std::to_string(p.seed));
   run.run_dir = dir.string();
   std::error_code ec;
   fs::remove(dir / "metrics.json", ec);  // a previous sweep's must not pass for this run's
@@ -189,23 +187,23 @@ SweepRun run_one(const PlannedRun& p, const SweepOptions& o, const std::vector<s
   }
   // 3: the mission ran and wrote its results, out of time or stalled (not a failure here)
   if (status != 0 && status != 3) {
-    run.stop_reason = "failed";
+    run.stop_reason = StopReason::kFailed;
     run.error = "scancrew run exited with status " + std::to_string(status) +
                 (status == 2    ? " (the launch was refused; see above)"
                  : status > 128 ? " (ended by signal " + std::to_string(status - 128) + ")"
                                 : " (see above)");
   } else if (!run.error.empty()) {
-    run.stop_reason = "failed";
+    run.stop_reason = StopReason::kFailed;
   }
   return run;
 }
 
 std::string describe(const SweepRun& r) {
   char buf[160];
-  if (r.stop_reason == "failed") return "failed: " + r.error;
+  if (r.stop_reason == StopReason::kFailed) return "failed: " + r.error;
   std::snprintf(buf, sizeof buf, "%s at %.1f s simulated, coverage %.2f %% (%.1f s wall)",
-                r.stop_reason.c_str(),
-                r.stop_reason == "complete" && std::isfinite(r.completion_time_s)
+                to_string(r.stop_reason).c_str(),
+                r.stop_reason == StopReason::kComplete && std::isfinite(r.completion_time_s)
                     ? r.completion_time_s
                     : r.sim_time_s,
                 100 * r.coverage, r.wall_time_s);
@@ -213,21 +211,31 @@ std::string describe(const SweepRun& r) {
 }
 
 // Resolves --arch against the sweep or launch file; nullopt (said why) when they do not fit.
-std::optional<std::vector<std::string>> select_architectures(const SweepOptions& o,
-                                                             SweepPlan& plan) {
+std::optional<std::vector<Architecture>> select_architectures(const SweepOptions& o,
+                                                              SweepPlan& plan) {
   // the architectures asked, each with its launch file
-  std::vector<std::string> archs = o.archs;
+  std::vector<Architecture> archs;
+  for (const std::string& name : o.archs) {
+    const auto arch = value_of(kArchitectureNames, name);
+    if (!arch) {
+      std::fprintf(stderr, "scancrew sweep: --arch: unknown architecture '%s'; allowed: %s\n",
+                   name.c_str(), joined_names(kArchitectureNames).c_str());
+      return std::nullopt;
+    }
+    archs.push_back(*arch);
+  }
   if (plan.sweep_file) {
-    if (archs.empty())
-      for (const char* a : kArchitectures)
-        if (plan.launch_of.count(a) > 0) archs.emplace_back(a);
+    // in kArchitectureNames' order when --arch does not say
     std::vector<std::string> has;
-    for (const char* a : kArchitectures)
-      if (plan.launch_of.count(a) > 0) has.emplace_back(a);
-    for (const std::string& a : archs)
+    for (const auto& [arch, name] : kArchitectureNames)
+      if (plan.launch_of.count(arch) > 0) {
+        if (o.archs.empty()) archs.push_back(arch);
+        has.emplace_back(name);
+      }
+    for (const Architecture a : archs)
       if (plan.launch_of.count(a) == 0) {
         std::fprintf(stderr, "scancrew sweep: %s has no architecture '%s'; it has: %s\n",
-                     o.path.c_str(), a.c_str(), join(has).c_str());
+                     o.path.c_str(), to_string(a).c_str(), join(has).c_str());
         return std::nullopt;
       }
   } else {
@@ -246,23 +254,25 @@ std::optional<std::vector<std::string>> select_architectures(const SweepOptions&
 
 // Expands the architectures into the planned runs; nullopt (said why) on a bad launch file.
 std::optional<std::vector<PlannedRun>> plan_runs(const SweepOptions& o,
-                                                 const std::vector<std::string>& archs,
+                                                 const std::vector<Architecture>& archs,
                                                  SweepPlan& plan) {
   // architecture x robots x seed; "single" is one robot whatever --robots says, a team
   // larger than a launch file lists is skipped for its architecture (said once), and so is
   // a team of one beside a "single" row: it would run the single robot again
-  const bool has_single = std::find(archs.begin(), archs.end(), "single") != archs.end();
+  const bool has_single =
+      std::find(archs.begin(), archs.end(), Architecture::kSingle) != archs.end();
   std::vector<PlannedRun> runs;
-  for (const std::string& arch : archs) {
+  for (const Architecture arch : archs) {
+    const bool single = arch == Architecture::kSingle;
     const std::string& launch = plan.launch_of[arch];
     const TeamSize team = team_size(launch);
     if (team.listed == 0) {
-      std::fprintf(stderr, "scancrew sweep: %s: %s is not a launch file\n", arch.c_str(),
+      std::fprintf(stderr, "scancrew sweep: %s: %s is not a launch file\n", to_string(arch).c_str(),
                    launch.c_str());
       return std::nullopt;
     }
-    const size_t most = arch == "single" ? 1 : team.listed;
-    const size_t least = arch != "single" && has_single ? 2 : 1;
+    const size_t most = single ? 1 : team.listed;
+    const size_t least = !single && has_single ? 2 : 1;
     std::vector<size_t> teams, skipped;
     for (const size_t n : o.robots.empty() ? std::vector<size_t>{team.runs} : o.robots) {
       if (std::find(teams.begin(), teams.end(), n) != teams.end()) continue;
@@ -271,17 +281,17 @@ std::optional<std::vector<PlannedRun>> plan_runs(const SweepOptions& o,
       else if (std::find(skipped.begin(), skipped.end(), n) == skipped.end())
         skipped.push_back(n);
     }
-    if (arch == "single" && teams.empty()) teams.push_back(1);
+    if (single && teams.empty()) teams.push_back(1);
     if (!skipped.empty()) {
       std::vector<std::string> names;
       names.reserve(skipped.size());
       for (const size_t n : skipped) names.push_back(std::to_string(n));
-      const std::string why = arch == "single"
+      const std::string why = single
                                   ? "1 robot only"
                                   : launch + " lists " + std::to_string(team.listed) + " robots" +
                                         (least > 1 ? "; 1 robot is the single row" : "");
-      std::fprintf(stderr, "scancrew sweep: %s: %s (robots %s skipped for it)\n", arch.c_str(),
-                   why.c_str(), join(names, ",").c_str());
+      std::fprintf(stderr, "scancrew sweep: %s: %s (robots %s skipped for it)\n",
+                   to_string(arch).c_str(), why.c_str(), join(names, ",").c_str());
     }
     for (const size_t n : teams)
       for (int seed = 1; seed <= o.seeds; ++seed)
@@ -303,7 +313,7 @@ std::vector<SweepRun> run_all(const std::vector<PlannedRun>& runs, const SweepOp
   for (size_t i = 0; i < runs.size() && g_stop == 0; ++i) {
     const PlannedRun& p = runs[i];
     const std::string head = "[" + std::to_string(i + 1) + "/" + std::to_string(runs.size()) +
-                             "] " + p.arch + ", " + std::to_string(p.robots) +
+                             "] " + to_string(p.arch) + ", " + std::to_string(p.robots) +
                              (p.robots == 1 ? " robot" : " robots") + ", seed " +
                              std::to_string(p.seed);
     std::fprintf(stderr, "%s ...\n", head.c_str());
@@ -311,7 +321,7 @@ std::vector<SweepRun> run_all(const std::vector<PlannedRun>& runs, const SweepOp
     done.push_back(run_one(p, o, keys, out));
     std::fflush(stdout);
     std::fprintf(stderr, "%s: %s\n", head.c_str(), describe(done.back()).c_str());
-    if (done.back().stop_reason == "interrupted") g_stop = 1;
+    if (done.back().stop_reason == StopReason::kInterrupted) g_stop = 1;
     // after every run, so that a sweep cut short still leaves its tables
     tables_written = write_file(out / "sweep.csv", format_sweep_csv(done)) &&
                      write_file(out / "sweep.md", format_sweep_markdown(done, title));
@@ -387,7 +397,7 @@ void add_sweep_command(CLI::App& app, CommandTable& table) {
       ->check(CLI::Range(size_t{1}, size_t{1000}));
   sweep->add_option("--arch", o->archs, "architectures (default: every one of the sweep file)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"single", "centralized", "distributed"}));
+      ->check(CLI::IsMember(name_list(kArchitectureNames)));
   sweep->add_option("--seeds", o->seeds, "runs per team, seeds 1..N")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();

@@ -108,7 +108,7 @@ const SweepRow* reference_row(const std::vector<SweepRow>& rows, const SweepRow&
   const SweepRow* own_arch = nullptr;
   for (const SweepRow& r : rows) {
     if (r.scene != row.scene || r.robots != 1) continue;
-    if (r.arch == "single") return &r;
+    if (r.arch == Architecture::kSingle) return &r;
     if (r.arch == row.arch) own_arch = &r;
   }
   return own_arch;
@@ -122,7 +122,12 @@ Result<SweepRun, std::string> read_sweep_metrics(std::string_view json_text, Swe
   if (j.is_discarded() || !j.is_object()) return make_unexpected(label + ": not a JSON object");
   const auto reason = j.find("stop_reason");
   if (reason == j.end() || !reason->is_string()) return make_unexpected(label + ": no stop_reason");
-  run.stop_reason = reason->get<std::string>();
+  const std::string reason_name = reason->get<std::string>();
+  const auto stop_reason = value_of(kStopReasonNames, reason_name);
+  if (!stop_reason)
+    return make_unexpected(label + ": stop_reason '" + reason_name +
+                           "' is not allowed; allowed: " + joined_names(kStopReasonNames));
+  run.stop_reason = *stop_reason;
   run.error.clear();
   if (const auto scene = j.find("scene"); scene != j.end() && scene->is_string())
     run.scene = scene->get<std::string>();
@@ -152,9 +157,17 @@ Result<SweepRun, std::string> read_sweep_metrics(std::string_view json_text, Swe
 }
 
 RunOutcome outcome_of(const SweepRun& run) {
-  if (run.stop_reason == "complete") return RunOutcome::kComplete;
-  if (run.stop_reason == "interrupted") return RunOutcome::kInterrupted;
-  if (run.stop_reason == "failed" || run.stop_reason.empty()) return RunOutcome::kFailed;
+  switch (run.stop_reason) {
+    case StopReason::kComplete:
+      return RunOutcome::kComplete;
+    case StopReason::kInterrupted:
+      return RunOutcome::kInterrupted;
+    case StopReason::kFailed:
+      return RunOutcome::kFailed;
+    case StopReason::kStalled:
+    case StopReason::kTimeBudget:
+      break;
+  }
   return RunOutcome::kIncomplete;
 }
 
@@ -177,7 +190,7 @@ MeanStd mean_std(const std::vector<double>& values) {
 
 std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
   // a failed run has no metrics.json, hence no scene: its architecture's
-  std::map<std::string, std::string> scene_of_arch;
+  std::map<Architecture, std::string> scene_of_arch;
   for (const SweepRun& r : runs)
     if (!r.scene.empty()) scene_of_arch.emplace(r.arch, r.scene);
 
@@ -187,7 +200,7 @@ std::vector<SweepRow> aggregate_sweep(const std::vector<SweepRun>& runs) {
   };
   std::vector<SweepRow> rows;
   std::vector<Values> values;
-  std::map<std::tuple<std::string, std::string, size_t>, size_t> index;
+  std::map<std::tuple<std::string, Architecture, size_t>, size_t> index;
   for (const SweepRun& r : runs) {
     std::string scene = r.scene;
     if (scene.empty())
@@ -282,10 +295,10 @@ std::string format_sweep_csv(const std::vector<SweepRun>& runs) {
   for (const SweepRun& r : runs) {
     const bool measured = outcome_of(r) != RunOutcome::kFailed;
     std::vector<std::string> fields = {
-        csv_field(r.arch),
+        csv_field(to_string(r.arch)),
         std::to_string(r.robots),
         std::to_string(r.seed),
-        csv_field(r.stop_reason),
+        csv_field(to_string(r.stop_reason)),
         csv_number(r.completion_time_s),
         csv_number(r.sim_time_s),
         csv_number(r.wall_time_s),
@@ -340,8 +353,9 @@ std::string format_sweep_markdown(const std::vector<SweepRun>& runs, const std::
                                                  : ratio_cell(time_ratio(row, *ref));
       const std::string time =
           (row.time_is_lower_bound ? "≥ " : "") + format_mean_std(row.time_s, 1);
-      md += "| " + md_cell(row.arch) + " | " + std::to_string(row.robots) + " | " + runs_cell(row) +
-            " | " + time + " | " + ratio + " | " + format_mean_std(row.coverage_pct, 2) + " | " +
+      md += "| " + md_cell(to_string(row.arch)) + " | " + std::to_string(row.robots) + " | " +
+            runs_cell(row) + " | " + time + " | " + ratio + " | " +
+            format_mean_std(row.coverage_pct, 2) + " | " +
             format_mean_std(row.coverage_reachable_pct, 2) + " | " +
             format_mean_std(row.t95_reachable_s, 0) + " | " + format_mean_std(row.rmse_mm, 1) +
             " | " + format_mean_std(row.path_m, 1) + " | " + format_mean_std(row.data_mb, 2) +

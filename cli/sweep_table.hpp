@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cli/choices.hpp"
 #include "core/result.hpp"
 #include "report/time_breakdown.hpp"
 
@@ -29,12 +30,12 @@ inline std::array<double, report::kActivityCount> no_time_share() {
 
 struct SweepRun {
   // what was run
-  std::string arch;   // single, centralized, distributed
+  Architecture arch = Architecture::kSingle;
   size_t robots = 0;  // team size
   int seed = 0;       // 1..N
   std::string run_dir;
-  // what metrics.json says; stop_reason "failed" when there is no metrics.json to read
-  std::string stop_reason = "failed";
+  // what metrics.json says; stop_reason kFailed when there is no metrics.json to read
+  StopReason stop_reason = StopReason::kFailed;
   std::string error;  // failed: why
   std::string scene;  // the scene file, as the launch file names it
   double completion_time_s = kNoValue;
@@ -61,14 +62,15 @@ struct SweepRun {
 
 // `run` with the metrics of a metrics.json text filled in (stop_reason, scene, times,
 // coverage, errors, path, data, collisions, replans; null or absent keys stay kNoValue).
-// An error (naming `label`) if the text is not a JSON object or has no stop_reason.
+// An error (naming `label`) if the text is not a JSON object or has no stop_reason, or one
+// that kStopReasonNames does not name.
 Result<SweepRun, std::string> read_sweep_metrics(std::string_view json_text, SweepRun run,
                                                  const std::string& label);
 
 // What a run counts for in the tables.
 enum class RunOutcome {
-  kComplete,     // stop_reason "complete": its time is its completion time
-  kIncomplete,   // "time_budget", "stalled": its time is its simulated time, a lower bound
+  kComplete,     // StopReason::kComplete: its time is its completion time
+  kIncomplete,   // kTimeBudget, kStalled: its time is its simulated time, a lower bound
   kInterrupted,  // Ctrl-C: left out of the statistics
   kFailed,       // no metrics.json: left out of the statistics
 };
@@ -85,7 +87,8 @@ MeanStd mean_std(const std::vector<double>& values);
 
 // One row of a scene's table: the runs of one architecture and team size.
 struct SweepRow {
-  std::string scene, arch;
+  std::string scene;
+  Architecture arch = Architecture::kSingle;
   size_t robots = 0;
   size_t runs = 0, completed = 0, incomplete = 0, interrupted = 0, failed = 0;
   MeanStd time_s;                    // completion time, or simulated time of incomplete runs
@@ -118,7 +121,7 @@ std::string format_sweep_csv(const std::vector<SweepRun>& runs);
 
 // sweep.md: "# title", then per scene a table of aggregate_sweep()'s rows and the notes
 // that explain it. The reference for "time vs single" is the scene's single-robot row
-// (architecture "single", 1 robot), else the row's own architecture with 1 robot.
+// (architecture kSingle, 1 robot), else the row's own architecture with 1 robot.
 std::string format_sweep_markdown(const std::vector<SweepRun>& runs, const std::string& title);
 
 }  // namespace scancrew::cli

@@ -8,19 +8,19 @@ const std::vector<ThesisResult>& thesis_results() {
   // Table 3.2 / 4.2 rows 6, 7, 9 (SR*: noisy depth, as ours); Table 5.4 (time, total path,
   // coverage; mean over 5 trials)
   static const std::vector<ThesisResult> rows = {
-      {"arena", 1, "single", "5.4", 173, 20.6, 85.6},
-      {"arena", 2, "centralized", "5.4", 165, 27.0, 80.3},
-      {"arena", 2, "distributed", "5.4", 157, 24.2, 91.0},
-      {"parking_lot", 1, "single", "5.4", 836, 106.0, 89.1},
-      {"parking_lot", 2, "centralized", "5.4", 666, 113.6, 81.1},
-      {"parking_lot", 2, "distributed", "5.4", 641, 107.1, 88.4},
-      {"parking_lot", 3, "centralized", "5.4", 614, 134.2, 76.4},
-      {"parking_lot", 4, "centralized", "5.4", 576, 161.0, 73.0},
-      {"powerplant", 1, "single", "3.2 / 4.2 (SR*)", 1990, 785, 90.4},
-      {"powerplant", 3, "centralized", "3.2 / 4.2 (TSGA)", 620, 790, 91.0},
-      {"powerplant", 3, "distributed", "4.2 (dist-TSGA)", 596, 781, 95.9},
-      {"powerplant", 5, "centralized", "3.2 / 4.2 (TSGA)", 382, 879, 90.6},
-      {"powerplant", 5, "distributed", "4.2 (dist-TSGA)", 369, 872, 95.6},
+      {"arena", 1, Architecture::kSingle, "5.4", 173, 20.6, 85.6},
+      {"arena", 2, Architecture::kCentralized, "5.4", 165, 27.0, 80.3},
+      {"arena", 2, Architecture::kDistributed, "5.4", 157, 24.2, 91.0},
+      {"parking_lot", 1, Architecture::kSingle, "5.4", 836, 106.0, 89.1},
+      {"parking_lot", 2, Architecture::kCentralized, "5.4", 666, 113.6, 81.1},
+      {"parking_lot", 2, Architecture::kDistributed, "5.4", 641, 107.1, 88.4},
+      {"parking_lot", 3, Architecture::kCentralized, "5.4", 614, 134.2, 76.4},
+      {"parking_lot", 4, Architecture::kCentralized, "5.4", 576, 161.0, 73.0},
+      {"powerplant", 1, Architecture::kSingle, "3.2 / 4.2 (SR*)", 1990, 785, 90.4},
+      {"powerplant", 3, Architecture::kCentralized, "3.2 / 4.2 (TSGA)", 620, 790, 91.0},
+      {"powerplant", 3, Architecture::kDistributed, "4.2 (dist-TSGA)", 596, 781, 95.9},
+      {"powerplant", 5, Architecture::kCentralized, "3.2 / 4.2 (TSGA)", 382, 879, 90.6},
+      {"powerplant", 5, Architecture::kDistributed, "4.2 (dist-TSGA)", 369, 872, 95.6},
   };
   return rows;
 }
@@ -60,8 +60,8 @@ std::string format_thesis_markdown(const std::vector<ExploreRun>& runs) {
       reachable = fixed(100.0 * r->coverage_reachable, 2);
       path = fixed(r->total_path_m, 1);
     }
-    md += "| " + t.scene + " | " + std::to_string(t.robots) + " | " + t.arch + " | " + t.table +
-          " | " + fixed(t.time_s, 0) + " | " + ours + " | " + ratio + " | " +
+    md += "| " + t.scene + " | " + std::to_string(t.robots) + " | " + to_string(t.arch) + " | " +
+          t.table + " | " + fixed(t.time_s, 0) + " | " + ours + " | " + ratio + " | " +
           fixed(t.coverage_pct, 1) + " | " + coverage + " | " + reachable + " | " +
           fixed(t.total_path_m, 1) + " | " + path + " |\n";
   }

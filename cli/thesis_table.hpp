@@ -23,7 +23,7 @@ namespace scancrew::cli {
 struct ThesisResult {
   std::string scene;  // as ExploreRun::scene
   size_t robots = 0;
-  std::string arch;   // single | centralized | distributed
+  Architecture arch = Architecture::kSingle;
   std::string table;  // where it comes from: "3.2", "4.2", "5.4"
   double time_s = 0;  // completion time
   double total_path_m = 0;

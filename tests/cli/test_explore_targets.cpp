@@ -7,10 +7,13 @@
 namespace scancrew::cli {
 namespace {
 
-ExploreRun run(const std::string& scene, const std::string& family, const std::string& kind,
-               size_t robots, const std::string& arch, double time_s, bool complete) {
+using enum Architecture;
+using robot::RobotKind;
+
+ExploreRun run(const std::string& scene, const std::string& family, RobotKind kind, size_t robots,
+               Architecture arch, double time_s, bool complete) {
   ExploreRun r{.scene = scene, .family = family, .kind = kind, .arch = arch, .robots = robots};
-  r.stop_reason = complete ? "complete" : "time_budget";
+  r.stop_reason = complete ? StopReason::kComplete : StopReason::kTimeBudget;
   r.sim_time_s = time_s;
   r.wall_time_s = time_s / 2;
   if (complete) r.completion_time_s = time_s;
@@ -32,13 +35,13 @@ const TargetRow& row(const std::vector<TargetRow>& rows, const std::string& star
 
 std::vector<ExploreRun> thesis_runs() {
   std::vector<ExploreRun> runs = {
-      run("powerplant", "powerplant", "multirotor", 3, "centralized", 600, true),
-      run("powerplant", "powerplant", "multirotor", 3, "distributed", 900, false),
-      run("powerplant", "powerplant", "multirotor", 5, "centralized", 360, true),
-      run("powerplant", "powerplant", "multirotor", 5, "distributed", 360, true),
-      run("parking_lot", "parking_lot", "ground", 1, "single", 800, true),
-      run("parking_lot", "parking_lot", "ground", 4, "centralized", 200, true),
-      run("parking_lot", "parking_lot", "ground", 4, "distributed", 260, true),
+      run("powerplant", "powerplant", RobotKind::kMultirotor, 3, kCentralized, 600, true),
+      run("powerplant", "powerplant", RobotKind::kMultirotor, 3, kDistributed, 900, false),
+      run("powerplant", "powerplant", RobotKind::kMultirotor, 5, kCentralized, 360, true),
+      run("powerplant", "powerplant", RobotKind::kMultirotor, 5, kDistributed, 360, true),
+      run("parking_lot", "parking_lot", RobotKind::kGround, 1, kSingle, 800, true),
+      run("parking_lot", "parking_lot", RobotKind::kGround, 4, kCentralized, 200, true),
+      run("parking_lot", "parking_lot", RobotKind::kGround, 4, kDistributed, 260, true),
   };
   runs[2].wall_time_s = 400;  // x0.9
   return runs;
@@ -85,21 +88,21 @@ TEST(ExploreTargets, RmseIsInVoxelsOfTheRobotKindsMapAndContactsNameTheRun) {
 TEST(ExploreTargets, ProceduralShareIsTheMeanOverScenesAndTheTailIsAgainstTheWayTo90) {
   std::vector<ExploreRun> runs;
   for (const char* scene : {"indoor_1", "indoor_3"}) {
-    ExploreRun one = run(scene, "indoor", "ground", 1, "single", 600, false);
+    ExploreRun one = run(scene, "indoor", RobotKind::kGround, 1, kSingle, 600, false);
     one.t95_reachable_s = std::string(scene) == "indoor_1" ? 500 : kNoValue;  // never: ≤
     runs.push_back(one);
-    for (const char* arch : {"centralized", "distributed"}) {
-      ExploreRun four = run(scene, "indoor", "ground", 4, arch, 300, true);
+    for (const Architecture arch : {kCentralized, kDistributed}) {
+      ExploreRun four = run(scene, "indoor", RobotKind::kGround, 4, arch, 300, true);
       four.t90_reachable_s = 200;
-      four.t95_reachable_s = std::string(arch) == "centralized" ? 150 : 250;
+      four.t95_reachable_s = arch == kCentralized ? 150 : 250;
       runs.push_back(four);
     }
   }
   runs.back().t90_reachable_s = 100;  // its tail, 200 s, is twice its way to 90 %
   // an outdoor scene: multirotors fly 1, 3 and 5, so it has no team of four and does not count
   // (it was counted as a team that never reached 95 %, and the target could never be met)
-  runs.push_back(run("outdoor_1", "outdoor", "multirotor", 1, "single", 600, false));
-  runs.push_back(run("outdoor_1", "outdoor", "multirotor", 3, "centralized", 600, false));
+  runs.push_back(run("outdoor_1", "outdoor", RobotKind::kMultirotor, 1, kSingle, 600, false));
+  runs.push_back(run("outdoor_1", "outdoor", RobotKind::kMultirotor, 3, kCentralized, 600, false));
   const auto rows = explore_targets(runs, {});
   const TargetRow& c = row(rows, "procedural, 4 robots, centralized");
   // (150 / 500 + 150 / 600) / 2 = 27.5 %

@@ -9,24 +9,28 @@
 namespace scancrew::cli {
 namespace {
 
-SweepRun measured(const std::string& arch, size_t robots, int seed, const std::string& stop,
-                  double time_s, double coverage) {
+using enum Architecture;
+using enum StopReason;
+
+SweepRun measured(Architecture arch, size_t robots, int seed, StopReason stop, double time_s,
+                  double coverage) {
   SweepRun r{.arch = arch, .robots = robots, .seed = seed};
-  r.run_dir = "runs/sweep/" + arch + "_r" + std::to_string(robots) + "_s" + std::to_string(seed);
+  r.run_dir =
+      "runs/sweep/" + to_string(arch) + "_r" + std::to_string(robots) + "_s" + std::to_string(seed);
   r.stop_reason = stop;
   r.scene = "launch_cfg/scenes/test_arena.yaml";
   r.sim_time_s = time_s;
-  if (stop == "complete") r.completion_time_s = time_s;
+  if (stop == kComplete) r.completion_time_s = time_s;
   r.wall_time_s = time_s / 10;
   r.coverage = coverage;
   r.mean_error_m = 0.001;
   r.rmse_m = 0.0075;
   r.total_path_length_m = 40.0 * static_cast<double>(robots);
-  r.data_exchanged_bytes = arch == "distributed" ? 3.5e6 : 0.0;
+  r.data_exchanged_bytes = arch == kDistributed ? 3.5e6 : 0.0;
   return r;
 }
 
-SweepRun failed(const std::string& arch, size_t robots, int seed, const std::string& why) {
+SweepRun failed(Architecture arch, size_t robots, int seed, const std::string& why) {
   SweepRun r{.arch = arch, .robots = robots, .seed = seed};
   r.error = why;
   return r;
@@ -46,12 +50,12 @@ TEST(SweepTable, ReadsTheMetricsOfARunDirectory) {
     "sim_time_s": 103.0, "wall_time_s": 11.2, "coverage": 0.9932, "mean_error_m": 0.0012,
     "rmse_m": 0.0076, "total_path_length_m": 48.8, "data_exchanged_bytes": 3512345,
     "collisions": 2, "replans": 17, "robots": []})";
-  auto run = read_sweep_metrics(json, {.arch = "distributed", .robots = 2, .seed = 3}, "m.json");
+  auto run = read_sweep_metrics(json, {.arch = kDistributed, .robots = 2, .seed = 3}, "m.json");
   ASSERT_TRUE(run) << run.error();
-  EXPECT_EQ(run->arch, "distributed");
+  EXPECT_EQ(run->arch, kDistributed);
   EXPECT_EQ(run->robots, 2u);
   EXPECT_EQ(run->seed, 3);
-  EXPECT_EQ(run->stop_reason, "complete");
+  EXPECT_EQ(run->stop_reason, kComplete);
   EXPECT_EQ(run->scene, "launch_cfg/scenes/test_arena.yaml");
   EXPECT_DOUBLE_EQ(run->completion_time_s, 102.9);
   EXPECT_DOUBLE_EQ(run->sim_time_s, 103.0);
@@ -70,9 +74,9 @@ TEST(SweepTable, NullOrAbsentMetricsStayMissing) {
   auto run = read_sweep_metrics(
       R"({"stop_reason": "time_budget", "completion_time_s": null, "sim_time_s": 240,
           "coverage": null, "data_exchanged_bytes": null})",
-      {.arch = "centralized", .robots = 2, .seed = 1}, "m.json");
+      {.arch = kCentralized, .robots = 2, .seed = 1}, "m.json");
   ASSERT_TRUE(run) << run.error();
-  EXPECT_EQ(run->stop_reason, "time_budget");
+  EXPECT_EQ(run->stop_reason, kTimeBudget);
   EXPECT_EQ(outcome_of(*run), RunOutcome::kIncomplete);
   EXPECT_TRUE(std::isnan(run->completion_time_s));
   EXPECT_DOUBLE_EQ(run->sim_time_s, 240.0);
@@ -92,18 +96,23 @@ TEST(SweepTable, RefusesTextThatIsNoMetricsObject) {
   auto no_reason = read_sweep_metrics(R"({"sim_time_s": 3})", {}, "m.json");
   ASSERT_FALSE(no_reason);
   EXPECT_EQ(no_reason.error(), "m.json: no stop_reason");
+  auto unknown = read_sweep_metrics(R"({"stop_reason": "exploded"})", {}, "m.json");
+  ASSERT_FALSE(unknown);
+  EXPECT_EQ(unknown.error(),
+            "m.json: stop_reason 'exploded' is not allowed; allowed: complete, stalled, "
+            "time_budget, interrupted, failed");
 }
 
 TEST(SweepTable, OutcomesSortTheStopReasons) {
   SweepRun r;
   EXPECT_EQ(outcome_of(r), RunOutcome::kFailed);  // no metrics read
-  r.stop_reason = "complete";
+  r.stop_reason = kComplete;
   EXPECT_EQ(outcome_of(r), RunOutcome::kComplete);
-  r.stop_reason = "stalled";
+  r.stop_reason = kStalled;
   EXPECT_EQ(outcome_of(r), RunOutcome::kIncomplete);
-  r.stop_reason = "time_budget";
+  r.stop_reason = kTimeBudget;
   EXPECT_EQ(outcome_of(r), RunOutcome::kIncomplete);
-  r.stop_reason = "interrupted";
+  r.stop_reason = kInterrupted;
   EXPECT_EQ(outcome_of(r), RunOutcome::kInterrupted);
 }
 
@@ -130,17 +139,17 @@ TEST(SweepTable, FormatsMeanAndStd) {
 
 TEST(SweepTable, RowsAggregateTheSeedsOfEachArchitectureAndTeam) {
   const std::vector<SweepRun> runs = {
-      measured("single", 1, 1, "time_budget", 240.0, 0.983),
-      measured("single", 1, 2, "complete", 220.0, 0.990),
-      measured("distributed", 2, 1, "complete", 100.0, 0.993),
-      measured("distributed", 2, 2, "complete", 110.0, 0.995),
-      failed("distributed", 2, 3, "scancrew run exited with status 2"),
-      measured("distributed", 2, 4, "interrupted", 30.0, 0.4),
+      measured(kSingle, 1, 1, kTimeBudget, 240.0, 0.983),
+      measured(kSingle, 1, 2, kComplete, 220.0, 0.990),
+      measured(kDistributed, 2, 1, kComplete, 100.0, 0.993),
+      measured(kDistributed, 2, 2, kComplete, 110.0, 0.995),
+      failed(kDistributed, 2, 3, "scancrew run exited with status 2"),
+      measured(kDistributed, 2, 4, kInterrupted, 30.0, 0.4),
   };
   const auto rows = aggregate_sweep(runs);
   ASSERT_EQ(rows.size(), 2u);
   const SweepRow& single = rows[0];
-  EXPECT_EQ(single.arch, "single");
+  EXPECT_EQ(single.arch, kSingle);
   EXPECT_EQ(single.robots, 1u);
   EXPECT_EQ(single.runs, 2u);
   EXPECT_EQ(single.completed, 1u);
@@ -152,7 +161,7 @@ TEST(SweepTable, RowsAggregateTheSeedsOfEachArchitectureAndTeam) {
   EXPECT_NEAR(single.rmse_mm.mean, 7.5, 1e-9);
 
   const SweepRow& team = rows[1];
-  EXPECT_EQ(team.arch, "distributed");
+  EXPECT_EQ(team.arch, kDistributed);
   EXPECT_EQ(team.robots, 2u);
   EXPECT_EQ(team.scene, "launch_cfg/scenes/test_arena.yaml");  // the failed run's too
   EXPECT_EQ(team.runs, 4u);
@@ -170,8 +179,8 @@ TEST(SweepTable, RowsAggregateTheSeedsOfEachArchitectureAndTeam) {
 }
 
 TEST(SweepTable, CollisionsAreSummedOverTheRuns) {
-  std::vector<SweepRun> runs = {measured("distributed", 3, 1, "complete", 90, 0.99),
-                                measured("distributed", 3, 2, "complete", 95, 0.99)};
+  std::vector<SweepRun> runs = {measured(kDistributed, 3, 1, kComplete, 90, 0.99),
+                                measured(kDistributed, 3, 2, kComplete, 95, 0.99)};
   runs[0].collisions = 2;
   runs[1].collisions = 1;
   EXPECT_EQ(aggregate_sweep(runs).front().collisions, 3u);
@@ -195,8 +204,8 @@ TEST(SweepTable, TimeRatioSaysWhichSideIsABound) {
 }
 
 TEST(SweepTable, CsvHasARowPerRunWithEmptyFieldsForMissingValues) {
-  std::vector<SweepRun> runs = {measured("distributed", 2, 1, "complete", 102.5, 0.9932),
-                                failed("single", 1, 1, "exited with status 2, see above")};
+  std::vector<SweepRun> runs = {measured(kDistributed, 2, 1, kComplete, 102.5, 0.9932),
+                                failed(kSingle, 1, 1, "exited with status 2, see above")};
   const auto lines = lines_of(format_sweep_csv(runs));
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_EQ(lines[0],
@@ -214,12 +223,12 @@ TEST(SweepTable, CsvHasARowPerRunWithEmptyFieldsForMissingValues) {
 
 TEST(SweepTable, MarkdownHasATableRowPerArchitectureAndTeam) {
   const std::vector<SweepRun> runs = {
-      measured("single", 1, 1, "time_budget", 240.0, 0.983),
-      measured("single", 1, 2, "time_budget", 240.0, 0.985),
-      measured("distributed", 2, 1, "complete", 100.0, 0.993),
-      measured("distributed", 2, 2, "complete", 106.0, 0.995),
-      measured("distributed", 4, 1, "complete", 70.0, 0.990),
-      failed("distributed", 4, 2, "exited with status 2"),
+      measured(kSingle, 1, 1, kTimeBudget, 240.0, 0.983),
+      measured(kSingle, 1, 2, kTimeBudget, 240.0, 0.985),
+      measured(kDistributed, 2, 1, kComplete, 100.0, 0.993),
+      measured(kDistributed, 2, 2, kComplete, 106.0, 0.995),
+      measured(kDistributed, 4, 1, kComplete, 70.0, 0.990),
+      failed(kDistributed, 4, 2, "exited with status 2"),
   };
   const std::string md = format_sweep_markdown(runs, "Sweep of arena.sweep.yaml: 2 seeds");
   const auto lines = lines_of(md);
@@ -252,7 +261,7 @@ TEST(SweepTable, WhereTheTimeGoesIsReadAndAveragedOverTheRuns) {
           "time_to_coverage_reachable_s": {"50": 20, "90": 60, "95": 80},
           "time_share": {"driving": 0.7, "turning": 0.1, "traffic": 0.05, "waiting": 0.05,
                          "backing_off": 0.0, "idle_open": 0.1, "idle_done": 0.0, "lost": 0.0}})",
-      {.arch = "centralized", .robots = 2, .seed = 1}, "m.json");
+      {.arch = kCentralized, .robots = 2, .seed = 1}, "m.json");
   ASSERT_TRUE(run) << run.error();
   EXPECT_DOUBLE_EQ(run->m_per_goal, 4.0);
   EXPECT_DOUBLE_EQ(run->time_share[static_cast<size_t>(report::Activity::kTraffic)], 0.05);
@@ -278,8 +287,8 @@ TEST(SweepTable, WhereTheTimeGoesIsReadAndAveragedOverTheRuns) {
 }
 
 TEST(SweepTable, WithoutASingleRowTheTeamOfOneIsTheReference) {
-  const std::vector<SweepRun> runs = {measured("distributed", 1, 1, "complete", 200.0, 0.99),
-                                      measured("distributed", 2, 1, "complete", 100.0, 0.99)};
+  const std::vector<SweepRun> runs = {measured(kDistributed, 1, 1, kComplete, 200.0, 0.99),
+                                      measured(kDistributed, 2, 1, kComplete, 100.0, 0.99)};
   const auto lines = lines_of(format_sweep_markdown(runs, "t"));
   ASSERT_GE(lines.size(), 8u);
   EXPECT_NE(lines[6].find("| distributed | 1 | 1/1 | 200.0 | ref. |"), std::string::npos);
@@ -291,8 +300,8 @@ TEST(SweepTable, WithoutASingleRowTheTeamOfOneIsTheReference) {
 }
 
 TEST(SweepTable, EachSceneHasItsOwnTable) {
-  std::vector<SweepRun> runs = {measured("single", 1, 1, "complete", 200.0, 0.99),
-                                measured("single", 1, 1, "complete", 800.0, 0.97)};
+  std::vector<SweepRun> runs = {measured(kSingle, 1, 1, kComplete, 200.0, 0.99),
+                                measured(kSingle, 1, 1, kComplete, 800.0, 0.97)};
   runs[1].scene = "launch_cfg/scenes/parking_lot.yaml";
   const std::string md = format_sweep_markdown(runs, "t");
   const auto arena = md.find("## Scene `launch_cfg/scenes/test_arena.yaml`");

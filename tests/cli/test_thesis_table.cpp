@@ -9,12 +9,15 @@
 namespace scancrew::cli {
 namespace {
 
-ExploreRun run(const std::string& scene, size_t robots, const std::string& arch,
-               const std::string& stop, double time_s) {
+using enum Architecture;
+using enum StopReason;
+
+ExploreRun run(const std::string& scene, size_t robots, Architecture arch, StopReason stop,
+               double time_s) {
   ExploreRun r{.scene = scene, .family = scene, .arch = arch, .robots = robots};
   r.stop_reason = stop;
   r.sim_time_s = time_s;
-  if (stop == "complete") r.completion_time_s = time_s;
+  if (stop == kComplete) r.completion_time_s = time_s;
   r.coverage = 0.9123;
   r.coverage_reachable = 0.95;
   r.total_path_m = 812.5;
@@ -34,7 +37,7 @@ TEST(ThesisTable, HoldsTheThesissRowsOfItsOwnScenes) {
   // Table 4.2's dist-TSGA trio: 9'56'', 781 m, 95.9 %
   bool found = false;
   for (const ThesisResult& t : rows)
-    if (t.scene == "powerplant" && t.robots == 3 && t.arch == "distributed") {
+    if (t.scene == "powerplant" && t.robots == 3 && t.arch == kDistributed) {
       found = true;
       EXPECT_DOUBLE_EQ(t.time_s, 596);
       EXPECT_DOUBLE_EQ(t.total_path_m, 781);
@@ -45,9 +48,9 @@ TEST(ThesisTable, HoldsTheThesissRowsOfItsOwnScenes) {
 
 TEST(ThesisTable, SetsEachRunBesideItsThesisRow) {
   const std::vector<ExploreRun> runs = {
-      run("powerplant", 3, "centralized", "complete", 558.0),
-      run("powerplant", 3, "distributed", "time_budget", 900.0),
-      run("parking_lot", 4, "distributed", "complete", 400.0),  // not in the thesis
+      run("powerplant", 3, kCentralized, kComplete, 558.0),
+      run("powerplant", 3, kDistributed, kTimeBudget, 900.0),
+      run("parking_lot", 4, kDistributed, kComplete, 400.0),  // not in the thesis
   };
   const std::string md = format_thesis_markdown(runs);
   EXPECT_EQ(line_with(md, "| powerplant | 3 | centralized |"),
