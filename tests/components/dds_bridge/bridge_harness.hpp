@@ -3,8 +3,8 @@
 // The dds_bridge tests' harness: launches of one robot (or station) each, with a source
 // and a sink component around a bridge, in a domain and a DDS partition drawn from the
 // process id so parallel test processes do not hear each other; a bare Fast DDS participant
-// writing raw envelopes (the hostile peer). Header-only: each test executable includes it
-// once (it registers the test components).
+// writing raw envelopes (the hostile peer). The test components are registered in
+// bridge_harness.cpp, linked once into each test executable that includes this header.
 //
 // Waits are polls with generous bounds (a loaded 2-core machine), never fixed sleeps.
 
@@ -118,7 +118,6 @@ class Source final : public Component {
   Publisher<msg::TsdfPatch> patch_;
   std::atomic<bool> active_{false};
 };
-SCANCREW_REGISTER_COMPONENT(Source, "test_dds_source")
 
 // Keeps what the bridge imports and the loss reports.
 class Sink final : public Component {
@@ -159,7 +158,6 @@ class Sink final : public Component {
     return {};
   }
 };
-SCANCREW_REGISTER_COMPONENT(Sink, "test_dds_sink")
 
 // The process id the domain and partition come from: ours, or the parent's in the child of
 // AKilledRobotProcessIsReportedLostWhenItsLeaseRunsOut.
