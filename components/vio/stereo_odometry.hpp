@@ -85,6 +85,8 @@ enum class LossReason : uint8_t {
   kGyroDisagreement,
   kCameraChanged,  // the image size changed
 };
+inline constexpr size_t kLossReasonCount = 6;
+static_assert(static_cast<size_t>(LossReason::kCameraChanged) + 1 == kLossReasonCount);
 std::string_view to_string(LossReason reason);
 
 struct TrackingResult {

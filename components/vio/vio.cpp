@@ -158,6 +158,7 @@ void Vio::on_stereo(const msg::StereoFrame& frame) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
 
   if (result.status == TrackingStatus::kLost) {
+    ++stats_.losses[static_cast<size_t>(result.loss)];
     SCANCREW_LOG_WARN("%s: tracking lost at t = %.3f s (%s): reset %u, %s",
                       qualified_name().c_str(), static_cast<double>(stamp) * 1e-9,
                       std::string(to_string(result.loss)).c_str(), odometry_->resets(),
@@ -235,12 +236,19 @@ void Vio::on_deactivate() {
   const VioStats s = stats();
   uint64_t rejected = 0;
   for (const uint64_t n : s.rejected) rejected += n;
+  std::string reasons;  // "; losses: too few PnP inliers 3, ..." (none when there were none)
+  for (size_t i = 0; i < s.losses.size(); ++i)
+    if (s.losses[i] > 0)
+      reasons += (reasons.empty() ? "; losses: " : ", ") +
+                 std::string(to_string(static_cast<LossReason>(i))) + " " +
+                 std::to_string(s.losses[i]);
   SCANCREW_LOG_INFO(
       "%s: %llu frames, %llu odometry, %llu keyframes, %u tracking losses, %llu frames skipped "
-      "(bad input), %.2f ms/frame mean, %.2f max",
+      "(bad input), %.2f ms/frame mean, %.2f max%s",
       qualified_name().c_str(), static_cast<unsigned long long>(s.frames),
       static_cast<unsigned long long>(s.published), static_cast<unsigned long long>(s.keyframes),
-      s.resets, static_cast<unsigned long long>(rejected), s.mean_frame_ms, s.max_frame_ms);
+      s.resets, static_cast<unsigned long long>(rejected), s.mean_frame_ms, s.max_frame_ms,
+      reasons.c_str());
 }
 
 SCANCREW_REGISTER_COMPONENT(Vio, "vio")

@@ -43,11 +43,15 @@ struct VioStats {
   uint64_t imu_samples = 0;     // IMU samples received
   InputErrorCounts rejected{};  // per InputError, frames and IMU samples skipped
   uint32_t resets = 0;          // tracking losses (each followed by a re-initialisation)
+  // the losses by LossReason (they sum to resets): which failure a mission meets decides
+  // whether to coast through it or to change the tracking
+  std::array<uint32_t, kLossReasonCount> losses{};
   uint64_t keyframes = 0;
   uint64_t untracked_frames = 0;  // published with quality 0 (the loss frames included)
   double mean_frame_ms = 0, p50_frame_ms = 0, max_frame_ms = 0;  // processing time per frame
 
   uint64_t rejected_count(InputError e) const { return rejected[static_cast<size_t>(e)]; }
+  uint32_t loss_count(LossReason r) const { return losses[static_cast<size_t>(r)]; }
 };
 
 class Vio final : public Component {

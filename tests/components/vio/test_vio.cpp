@@ -188,6 +188,7 @@ eval::OdometryError tracked_error(const Scenario& scenario) {
   EXPECT_EQ(s.frames, frames);
   EXPECT_EQ(s.published, s.frames);
   EXPECT_EQ(s.resets, 0u);
+  for (const uint32_t n : s.losses) EXPECT_EQ(n, 0u);
   EXPECT_EQ(s.untracked_frames, 0u);
   for (const msg::Odometry& o : r.collector->odom) {
     EXPECT_GT(o.tracking_quality, 0.5) << o.header.stamp_ns;
@@ -251,6 +252,11 @@ TEST(Vio, BlackFramesLoseTrackingWhichIsReportedAndReinitialised) {
   ASSERT_NE(r.collector, nullptr);
   const VioStats s = r.vio->stats();
   EXPECT_EQ(s.resets, 1u);
+  // a black frame has no corner to track: the loss is counted under that reason only
+  EXPECT_EQ(s.loss_count(LossReason::kTooFewTracks), 1u);
+  uint32_t losses = 0;
+  for (const uint32_t n : s.losses) losses += n;
+  EXPECT_EQ(losses, s.resets);
   EXPECT_EQ(s.published, s.frames);
   EXPECT_EQ(s.untracked_frames, 5u);  // the loss, then four frames that cannot re-initialise
   const auto& odom = r.collector->odom;
