@@ -167,8 +167,26 @@ Json run_metrics(const MissionMonitor& monitor, const RunFacts& run,
 
 // One robot's entry of metrics.json: path, replans, coverage (the score of its finest map's
 // mesh, else the monitor's estimate), goals, tours and where its time went.
-Json robot_metrics(const MissionMonitor::RobotProgress& r, const Planners& planners,
+// A robot's odometry (vio) in metrics.json: frames, losses (by reason) and losses per 100 m of
+// its path, the measure of Step 14's target.
+Json odometry_metrics(const RunSummary::Odometry& o, double path_length_m) {
+  Json j;
+  j["frames"] = o.frames;
+  j["losses"] = o.losses;
+  j["losses_per_100m"] = path_length_m > 0
+                             ? Json(100.0 * static_cast<double>(o.losses) / path_length_m)
+                             : Json(nullptr);
+  Json reasons = Json::object();
+  for (const auto& [reason, n] : o.losses_by_reason) reasons[reason] = n;
+  j["losses_by_reason"] = std::move(reasons);
+  j["mean_frame_ms"] = o.mean_frame_ms;
+  j["max_frame_ms"] = o.max_frame_ms;
+  return j;
+}
+
+Json robot_metrics(const MissionMonitor::RobotProgress& r, const RunSummary& summary,
                    const std::vector<MeshScore>& scores) {
+  const Planners& planners = summary.planners;
   Json j;
   j["id"] = r.id;
   j["namespace"] = r.ns;
@@ -193,6 +211,8 @@ Json robot_metrics(const MissionMonitor::RobotProgress& r, const Planners& plann
   j["time_s"] = std::move(time);
   j["ises_left"] = r.ises_left;
   j["state"] = r.have_state ? std::string(msg::to_string(r.mode)) : "starting";
+  if (const auto o = summary.odometry.find(r.id); o != summary.odometry.end())
+    j["odometry"] = odometry_metrics(o->second, r.path_length_m);
   return j;
 }
 
@@ -272,7 +292,7 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   uint64_t replans = 0;
   Json robots = Json::array();
   for (const auto& r : monitor.robots()) {
-    robots.push_back(robot_metrics(r, planners, scores));
+    robots.push_back(robot_metrics(r, summary, scores));
     total_length += r.path_length_m;
     replans += robots.back()["replans"].get<uint64_t>();
   }

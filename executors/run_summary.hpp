@@ -26,13 +26,21 @@ struct RunSummary {
   struct Planner {
     uint64_t tours = 0, goals_reached = 0, replans = 0;
   };
+  // A robot's odometry estimate (vio): its frames, its tracking losses and their reasons.
+  struct Odometry {
+    uint64_t frames = 0;
+    uint32_t losses = 0;
+    std::map<std::string, uint32_t> losses_by_reason;  // only reasons that occurred
+    double mean_frame_ms = 0, max_frame_ms = 0;
+  };
   // Bodies that touched (team_simulator).
   struct Contacts {
     uint64_t robot_scene = 0, robot_robot = 0;
   };
 
-  std::vector<Map> maps;                 // in launch order
-  std::map<uint32_t, Planner> planners;  // by robot id
+  std::vector<Map> maps;                  // in launch order
+  std::map<uint32_t, Planner> planners;   // by robot id
+  std::map<uint32_t, Odometry> odometry;  // by robot id
   Contacts contacts;
 };
 

@@ -251,6 +251,18 @@ void Vio::on_deactivate() {
       reasons.c_str());
 }
 
+void Vio::summarize(RunSummary& into) const {
+  const VioStats s = stats();
+  RunSummary::Odometry& o = into.odometry[robot_id()];
+  o.frames = s.frames;
+  o.losses = s.resets;
+  for (size_t i = 0; i < s.losses.size(); ++i)
+    if (s.losses[i] > 0)
+      o.losses_by_reason[std::string(to_string(static_cast<LossReason>(i)))] = s.losses[i];
+  o.mean_frame_ms = s.mean_frame_ms;
+  o.max_frame_ms = s.max_frame_ms;
+}
+
 SCANCREW_REGISTER_COMPONENT(Vio, "vio")
 
 }  // namespace scancrew::vio

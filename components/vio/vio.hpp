@@ -71,6 +71,7 @@ class Vio final : public Component {
   Vio(ComponentContext context, Config config);
   ~Vio() override;
 
+  void summarize(RunSummary& into) const override;  // its frames and losses
   VioStats stats() const;
 
  private:

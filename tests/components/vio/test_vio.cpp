@@ -257,6 +257,13 @@ TEST(Vio, BlackFramesLoseTrackingWhichIsReportedAndReinitialised) {
   uint32_t losses = 0;
   for (const uint32_t n : s.losses) losses += n;
   EXPECT_EQ(losses, s.resets);
+  RunSummary summary;  // what metrics.json reports for the robot
+  r.vio->summarize(summary);
+  ASSERT_EQ(summary.odometry.count(1), 1u);
+  EXPECT_EQ(summary.odometry[1].frames, s.frames);
+  EXPECT_EQ(summary.odometry[1].losses, 1u);
+  EXPECT_EQ(summary.odometry[1].losses_by_reason,
+            (std::map<std::string, uint32_t>{{"too few tracked corners", 1}}));
   EXPECT_EQ(s.published, s.frames);
   EXPECT_EQ(s.untracked_frames, 5u);  // the loss, then four frames that cannot re-initialise
   const auto& odom = r.collector->odom;
