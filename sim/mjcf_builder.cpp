@@ -29,6 +29,12 @@ constexpr const char* kSolid = R"( contype="1" conaffinity="3")";
 constexpr const char* kNoCollision = R"( contype="0" conaffinity="0")";
 constexpr double kRobotMassKg = 10.0;
 constexpr double kRobotInertia = 1.0;  // kg m^2 about every axis (only yaw turns)
+// the dot texture's mean grey: half its texels 0.35, half 0.95 (random="0.5" below)
+constexpr double kDotsMeanGrey = 0.65;
+
+Rgb plain_color(const Rgb& c) {
+  return {kDotsMeanGrey * c.r, kDotsMeanGrey * c.g, kDotsMeanGrey * c.b};
+}
 
 }  // namespace
 
@@ -55,15 +61,22 @@ namespace {
 // the scene's materials and meshes (inside <asset>)
 void write_materials(std::ostream& x, const SceneSpec& scene, const MjcfOptions& o,
                      double texrepeat) {
-  const auto material = [&](const std::string& name, const Rgb& c) {
-    x << "    <material name=\"" << name << "\" texture=\"dots\" texuniform=\"true\" texrepeat=\""
-      << texrepeat << " " << texrepeat << "\" rgba=\"" << rgb(c)
-      << " 1\" specular=\"0\" shininess=\"0\"/>\n";
+  const auto material = [&](const std::string& name, const Rgb& c,
+                            SurfaceTexture texture = SurfaceTexture::kDots) {
+    x << "    <material name=\"" << name << "\"";
+    // plain: the colour alone (the texture's mean grey times the colour, so a plain face is
+    // about as bright as a dotted one)
+    if (texture == SurfaceTexture::kPlain)
+      x << " rgba=\"" << rgb(plain_color(c)) << " 1\"";
+    else
+      x << " texture=\"dots\" texuniform=\"true\" texrepeat=\"" << texrepeat << " " << texrepeat
+        << "\" rgba=\"" << rgb(c) << " 1\"";
+    x << " specular=\"0\" shininess=\"0\"/>\n";
   };
   material("floor_mat", {0.8, 0.8, 0.75});
-  material("wall_mat", {0.75, 0.8, 0.85});
-  for (const auto& b : scene.boxes) material("obj_" + b.name, b.color);
-  for (const auto& c : scene.cylinders) material("obj_" + c.name, c.color);
+  material("wall_mat", {0.75, 0.8, 0.85}, scene.walls_texture);
+  for (const auto& b : scene.boxes) material("obj_" + b.name, b.color, b.texture);
+  for (const auto& c : scene.cylinders) material("obj_" + c.name, c.color, c.texture);
   // meshes carry their own texture coordinates (one repeat per texture period)
   for (size_t i = 0; i < scene.meshes.size(); ++i) {
     const MeshSpec& m = scene.meshes[i];

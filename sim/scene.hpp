@@ -1,13 +1,16 @@
 #pragma once
 
 // SceneSpec: a scene to reconstruct, as described in launch_cfg/scenes/*.yaml — floor,
-// optional ceiling and walls around the bounds, boxes, cylinders, triangle meshes — all
-// random-dot textured so that stereo matching finds disparity. Turned into MJCF by
-// build_mjcf(). Units: metres, radians; z up; the floor is z = 0.
+// optional ceiling and walls around the bounds, boxes, cylinders, triangle meshes — random-dot
+// textured so that stereo matching finds disparity, unless a file asks for plain (textureless)
+// walls or objects. Turned into MJCF by build_mjcf(). Units: metres, radians; z up; the floor
+// is z = 0.
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
+#include "core/enum_names.hpp"
 #include "core/result.hpp"
 #include "interfaces/geometry.hpp"
 
@@ -17,12 +20,21 @@ struct Rgb {
   double r = 0.6, g = 0.6, b = 0.6;
 };
 
+// A surface's look: the random-dot texture (the default) or one flat colour, on which stereo
+// matching finds no disparity (a painted wall; docs/simulator.md, "Plain surfaces").
+enum class SurfaceTexture : uint8_t { kDots, kPlain };
+inline constexpr EnumNames<SurfaceTexture, 2> kSurfaceTextureNames{{
+    {SurfaceTexture::kDots, "dots"},
+    {SurfaceTexture::kPlain, "plain"},
+}};
+
 struct BoxSpec {
   std::string name;
   msg::Vec3 center_m;
   msg::Vec3 size_m;  // full extents
   double yaw_rad = 0;
   Rgb color;
+  SurfaceTexture texture = SurfaceTexture::kDots;
 };
 
 struct CylinderSpec {
@@ -30,6 +42,7 @@ struct CylinderSpec {
   msg::Vec3 center_m;
   double radius_m = 0, height_m = 0;
   Rgb color;
+  SurfaceTexture texture = SurfaceTexture::kDots;
 };
 
 // A triangle mesh (any format assimp reads: COLLADA, OBJ, STL, PLY, ...; z up). It is scaled
@@ -65,6 +78,7 @@ struct SceneSpec {
   bool ceiling = false;
   double wall_height_m = 0;  // 0: no walls
   double wall_thickness_m = 0.1;
+  SurfaceTexture walls_texture = SurfaceTexture::kDots;  // the walls and the ceiling
   std::vector<BoxSpec> boxes;
   std::vector<CylinderSpec> cylinders;
   std::vector<MeshSpec> meshes;

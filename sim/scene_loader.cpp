@@ -31,6 +31,7 @@ class SceneReader {
     top.optional("ceiling", s.ceiling);
     top.optional("wall_height_m", s.wall_height_m, {0, 100});
     top.optional("wall_thickness_m", s.wall_thickness_m, {0.01, 10});
+    top.choice("walls_texture", s.walls_texture, kSurfaceTextureNames);
     top.optional("dot_size_m", s.dot_size_m, {0.001, 1});
     top.optional("texture_seed", s.texture_seed);
     for (const char* list : {"boxes", "cylinders", "meshes", "starts"}) top.mark_known(list);
@@ -129,6 +130,7 @@ class SceneReader {
     r.optional("yaw_deg", yaw_deg, {-360, 360});
     b.yaw_rad = yaw_deg * M_PI / 180.0;
     color(r, b.color);
+    r.choice("texture", b.texture, kSurfaceTextureNames);
     s.boxes.push_back(b);
   }
 
@@ -139,6 +141,7 @@ class SceneReader {
     r.required("radius_m", c.radius_m, {1e-3, 1e4});
     r.required("height_m", c.height_m, {1e-3, 1e4});
     color(r, c.color);
+    r.choice("texture", c.texture, kSurfaceTextureNames);
     s.cylinders.push_back(c);
   }
 

@@ -1,5 +1,6 @@
 #include "components/stereo_depth/stereo_depth.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "components/stereo_depth/stereo_matcher.hpp"
@@ -26,11 +27,19 @@ StereoDepth::Config StereoDepth::read_config(ParamReader& p) {
   p.optional("disp12_max_diff", s.disp12_max_diff, {-1, 64});
   p.optional("pre_filter_cap", s.pre_filter_cap, {1, 63});
   p.choice("mode", s.mode, kSgbmModeNames);
+  p.optional("texture_threshold", s.texture_threshold, {0, 1000});
+  p.optional("texture_window", s.texture_window, {3, 31});
+  if (s.texture_window % 2 == 0) p.report("texture_window", "must be odd");
   p.optional("min_range_m", c.min_range_m, {0.01, 100});
   p.optional("max_range_m", c.max_range_m, {0.02, 1000});
   if (c.max_range_m <= c.min_range_m) p.report("max_range_m", "must be greater than min_range_m");
   p.optional("max_pending_frames", c.max_pending_frames, {1, 1000});
   p.optional("pose_history", c.pose_history, {1, 100000});
+  NearFieldFillConfig& n = c.near_field;
+  p.optional("near_field_range_m", n.range_m, {0, 10});
+  p.optional("near_field_confirm_factor", n.confirm_factor, {1.01, 10});
+  p.optional("near_field_floor_tolerance_m", n.floor_tolerance_m, {0.001, 1});
+  p.optional("near_field_max_height_m", n.max_height_m, {0.01, 10});
   return c;
 }
 
@@ -40,6 +49,13 @@ StereoDepth::StereoDepth(ComponentContext context, Config config)
 StereoDepth::~StereoDepth() = default;
 
 Result<void, std::string> StereoDepth::on_configure() {
+  if (std::string problem = config_.near_field.validate(); !problem.empty())
+    return make_unexpected(problem);
+  // the fill needs a floor under the camera: ground robots only
+  const auto self = std::find_if(team().begin(), team().end(),
+                                 [&](const TeamMember& m) { return m.id == robot_id(); });
+  fill_near_field_ = config_.near_field.range_m > 0 && self != team().end() &&
+                     self->kind == robot::RobotKind::kGround;
   matcher_ =
       std::make_unique<StereoMatcher>(config_.sgbm, config_.min_range_m, config_.max_range_m);
   depth_ = create_publisher<msg::DepthImage>("depth");
@@ -127,20 +143,34 @@ void StereoDepth::compute(const msg::StereoFrame& f, const msg::Odometry& pose) 
   d.T_world_cam = msg::to_msg(msg::to_eigen(pose.T_world_body) * msg::to_eigen(f.T_body_cam));
   matcher_->compute(f.left.data(), f.right.data(), f.intrinsics.width, f.intrinsics.height,
                     f.intrinsics.fx, f.baseline_m, d.depth_m);
+  if (fill_near_field_) {
+    const double blind_m =
+        std::max(config_.min_range_m, f.intrinsics.fx * f.baseline_m /
+                                          matcher_->num_disparities(f.intrinsics.fx, f.baseline_m));
+    const NearFieldFillStats n = fill_near_field(
+        d.depth_m, f.intrinsics, msg::to_eigen(f.T_body_cam), blind_m, config_.near_field);
+    stats_.filled_images += n.columns > 0 ? 1 : 0;
+    stats_.filled_columns += n.columns;
+    stats_.filled_pixels += n.pixels;
+  }
   if (depth_.publish(std::move(*loan))) ++stats_.published;
 }
 
 void StereoDepth::on_deactivate() {
   SCANCREW_LOG_INFO(
       "%s: %llu frames, %llu depth images; skipped: %llu empty, %llu size mismatch, %llu "
-      "camera model mismatch, %llu without pose, %llu with tracking lost",
+      "camera model mismatch, %llu without pose, %llu with tracking lost; near-field fill: %llu "
+      "images, %llu columns, %llu pixels",
       qualified_name().c_str(), static_cast<unsigned long long>(stats_.frames),
       static_cast<unsigned long long>(stats_.published),
       static_cast<unsigned long long>(stats_.empty),
       static_cast<unsigned long long>(stats_.size_mismatch),
       static_cast<unsigned long long>(stats_.intrinsics_mismatch),
       static_cast<unsigned long long>(stats_.no_pose),
-      static_cast<unsigned long long>(stats_.pose_lost));
+      static_cast<unsigned long long>(stats_.pose_lost),
+      static_cast<unsigned long long>(stats_.filled_images),
+      static_cast<unsigned long long>(stats_.filled_columns),
+      static_cast<unsigned long long>(stats_.filled_pixels));
 }
 
 SCANCREW_REGISTER_COMPONENT(StereoDepth, "stereo_depth")

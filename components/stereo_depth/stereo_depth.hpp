@@ -9,6 +9,10 @@
 // odom, the vio component's): frames wait for the pose of their stamp (bounded), poses
 // with tracking lost drop their frame. The camera pose is T_world_body · T_body_cam (the
 // rig's extrinsics travel with each StereoFrame).
+//
+// On a ground robot, invalid depth just beyond the floor it sees is filled as an obstacle
+// (near_field_fill.hpp; docs/perception.md, "Near-field fill"): a plain wall would leave
+// no depth at all.
 
 #include <cstdint>
 #include <deque>
@@ -16,6 +20,7 @@
 #include <string>
 #include <string_view>
 
+#include "components/stereo_depth/near_field_fill.hpp"
 #include "core/enum_names.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
@@ -43,12 +48,19 @@ struct SgbmParams {
   int32_t disp12_max_diff = 1;         // left-right check, px; < 0 disables
   uint32_t pre_filter_cap = 63;
   SgbmMode mode = SgbmMode::kSgbm;  // sgbm (5 paths) | hh (8 paths) | sgbm_3way
+  // Texture check (as OpenCV's block matcher's textureThreshold, which SGBM lacks): a pixel
+  // whose texture_window² window of the left image has a mean |Sobel x| below
+  // texture_threshold (grey levels) is NaN. 0: off.
+  double texture_threshold = 2.0;
+  uint32_t texture_window = 9;  // odd, 3..31
 };
 
 // Bad-input counters: every skipped frame is counted under its reason.
 struct StereoDepthStats {
   uint64_t frames = 0, published = 0;
   uint64_t empty = 0, size_mismatch = 0, intrinsics_mismatch = 0, no_pose = 0, pose_lost = 0;
+  // the near-field fill (ground robots): images, columns and pixels it filled
+  uint64_t filled_images = 0, filled_columns = 0, filled_pixels = 0;
 };
 
 class StereoMatcher;  // OpenCV inside
@@ -62,6 +74,7 @@ class StereoDepth final : public Component {
     double min_range_m = 0.3, max_range_m = 5.0;  // thesis table 5.3
     uint32_t max_pending_frames = 4;              // frames waiting for their pose
     uint32_t pose_history = 64;                   // poses kept for frames still to come
+    NearFieldFillConfig near_field;               // ground robots only
   };
   static Config read_config(ParamReader& p);
 
@@ -80,6 +93,7 @@ class StereoDepth final : public Component {
   bool valid(const msg::StereoFrame& frame);
 
   Config config_;
+  bool fill_near_field_ = false;  // a ground robot with near_field.range_m > 0
   std::unique_ptr<StereoMatcher> matcher_;
   Publisher<msg::DepthImage> depth_;
   std::deque<Sample<msg::StereoFrame>> pending_;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace scancrew::stereo_depth {
 
@@ -14,6 +15,7 @@ struct StereoMatcher::Impl {
   cv::Ptr<cv::StereoSGBM> sgbm;
   double fx = 0, baseline = 0;  // the geometry sgbm was made for
   cv::Mat disparity;            // CV_16S, 4 fractional bits
+  cv::Mat gradient, texture;    // CV_32F: |Sobel x| of the left image, its window mean
 };
 
 StereoMatcher::StereoMatcher(const SgbmParams& params, double min_range_m, double max_range_m)
@@ -68,14 +70,28 @@ void StereoMatcher::compute(const uint8_t* left, const uint8_t* right, uint32_t 
   const cv::Mat l(h, w, CV_8UC1, const_cast<uint8_t*>(left));
   const cv::Mat r(h, w, CV_8UC1, const_cast<uint8_t*>(right));
   m.sgbm->compute(l, r, m.disparity);
+  // the texture check: SGBM's smoothness term carries disparities from the edges of a plain
+  // face into it (right only where the face is fronto-parallel and in range); where the
+  // window holds no horizontal texture there is nothing to match
+  const bool check_texture = m.params.texture_threshold > 0;
+  if (check_texture) {
+    const int window = static_cast<int>(m.params.texture_window);
+    cv::Sobel(l, m.gradient, CV_32F, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+    m.gradient = cv::abs(m.gradient);
+    cv::boxFilter(m.gradient, m.texture, CV_32F, cv::Size(window, window), cv::Point(-1, -1), true,
+                  cv::BORDER_REPLICATE);
+  }
+  const auto textured = static_cast<float>(m.params.texture_threshold);
   depth.resize(size_t{width} * height);
   const double fb = fx_px * baseline_m;
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   for (int y = 0; y < h; ++y) {
     const auto* d = m.disparity.ptr<int16_t>(y);
+    const float* t = check_texture ? m.texture.ptr<float>(y) : nullptr;
     float* out = depth.data() + static_cast<size_t>(y) * width;
     for (int x = 0; x < w; ++x) {
-      if (d[x] <= 0) {  // no match (OpenCV marks it (min disparity - 1) * 16)
+      // no match (OpenCV marks it (min disparity - 1) * 16), or nothing to match
+      if (d[x] <= 0 || (t != nullptr && t[x] < textured)) {
         out[x] = kNaN;
         continue;
       }

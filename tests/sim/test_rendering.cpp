@@ -114,9 +114,33 @@ TEST(Rendering, ImagesHaveTextureForStereo) {
   ASSERT_TRUE(sim->render_stereo(0, &stereo, nullptr));
   double mean = 0, var = 0;
   for (uint8_t p : stereo.left) mean += p;
-  mean /= stereo.left.size();
+  mean /= static_cast<double>(stereo.left.size());
   for (uint8_t p : stereo.left) var += (p - mean) * (p - mean);
   EXPECT_GT(std::sqrt(var / stereo.left.size()), 10.0);  // not a flat image
+}
+
+// The grey-level spread of the upper half of the left image (the wall; the floor is below).
+double upper_half_spread(const msg::StereoFrame& stereo) {
+  const size_t n = stereo.left.size() / 2;
+  double mean = 0, var = 0;
+  for (size_t i = 0; i < n; ++i) mean += stereo.left[i];
+  mean /= static_cast<double>(n);
+  for (size_t i = 0; i < n; ++i) var += (stereo.left[i] - mean) * (stereo.left[i] - mean);
+  return std::sqrt(var / static_cast<double>(n));
+}
+
+TEST(Rendering, APlainWallRendersFlatWhereADottedOneHasTexture) {
+  SceneSpec scene = wall_scene();
+  auto dotted = make_sim(scene, {ground_robot("r1", 0, 0)}, true);
+  ASSERT_TRUE(dotted);
+  scene.boxes[0].texture = SurfaceTexture::kPlain;
+  auto plain = make_sim(scene, {ground_robot("r1", 0, 0)}, true);
+  ASSERT_TRUE(plain);
+  msg::StereoFrame a, b;
+  ASSERT_TRUE(dotted->render_stereo(0, &a, nullptr));
+  ASSERT_TRUE(plain->render_stereo(0, &b, nullptr));
+  EXPECT_GT(upper_half_spread(a), 10.0);
+  EXPECT_LT(upper_half_spread(b), 2.0);
 }
 
 }  // namespace

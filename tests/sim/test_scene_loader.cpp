@@ -79,5 +79,47 @@ boxes:
   EXPECT_NE(e.find("boxes[0].colour: unknown parameter"), std::string::npos) << e;
 }
 
+TEST(SceneLoader, TexturesAreDotsUnlessPlainIsAsked) {
+  auto scene = parse_scene(R"(
+name: plain
+bounds_min_m: [-4, -3.5, 0]
+bounds_max_m: [4, 3.5, 2]
+wall_height_m: 2
+walls_texture: plain
+boxes:
+  - {name: painted, center_m: [0, 0, 1], size_m: [0.8, 0.8, 2], texture: plain}
+  - {name: dotted, center_m: [2, 0, 1], size_m: [0.8, 0.8, 2]}
+cylinders:
+  - {name: drum, center_m: [2, 2, 0.5], radius_m: 0.3, height_m: 1, texture: plain}
+)",
+                           "plain.yaml", ".");
+  ASSERT_TRUE(scene) << scene.error().front();
+  EXPECT_EQ(scene->walls_texture, SurfaceTexture::kPlain);
+  ASSERT_EQ(scene->boxes.size(), 2u);
+  EXPECT_EQ(scene->boxes[0].texture, SurfaceTexture::kPlain);
+  EXPECT_EQ(scene->boxes[1].texture, SurfaceTexture::kDots);
+  ASSERT_EQ(scene->cylinders.size(), 1u);
+  EXPECT_EQ(scene->cylinders[0].texture, SurfaceTexture::kPlain);
+
+  auto dotted =
+      parse_scene("{name: d, bounds_min_m: [0, 0, 0], bounds_max_m: [1, 1, 1]}", "d.yaml", ".");
+  ASSERT_TRUE(dotted) << dotted.error().front();
+  EXPECT_EQ(dotted->walls_texture, SurfaceTexture::kDots);
+}
+
+TEST(SceneLoader, AnUnknownTextureNamesTheAllowedOnes) {
+  const std::string e = errors_of(R"(
+name: x
+bounds_min_m: [0, 0, 0]
+bounds_max_m: [1, 1, 1]
+walls_texture: matte
+boxes:
+  - {name: b, center_m: [0.5, 0.5, 0.5], size_m: [0.1, 0.1, 0.1], texture: shiny}
+)");
+  EXPECT_NE(e.find("walls_texture"), std::string::npos) << e;
+  EXPECT_NE(e.find("boxes[0].texture"), std::string::npos) << e;
+  EXPECT_NE(e.find("plain"), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace scancrew::sim

@@ -54,15 +54,15 @@ class Feeder final : public Component {
     return {};
   }
   void tick() {
-    const int64_t stamp = ++step_ * 100'000'000;
+    const int64_t stamp = int64_t{++step_} * 100'000'000;
     auto f = stereo_.loan();
     ASSERT_TRUE(f);
     msg::StereoFrame& frame = **f;
     frame.header.stamp_ns = stamp;
     frame.intrinsics = {64, 32, 32, 32, 31.5, 15.5};
     frame.baseline_m = 0.26;
-    frame.left.assign(64 * 32, 100);
-    frame.right.assign(64 * 32, 100);
+    frame.left.assign(size_t{64} * 32, 100);
+    frame.right.assign(size_t{64} * 32, 100);
     bool with_pose = true;
     double quality = 1;
     switch (step_) {
@@ -190,6 +190,48 @@ TEST(StereoMatcher, TheAutomaticDisparityRangeIsBounded) {
   EXPECT_EQ(matcher.num_disparities(std::nan(""), 0.1), 16U);
 }
 
+// A pair whose left half is random dots and right half one flat grey, the right image the
+// left shifted by 8 px (depth f·B/8). SGBM carries disparities into the flat half; the
+// texture check leaves it NaN and keeps the dotted half.
+TEST(StereoMatcher, TheTextureCheckLeavesAPlainFaceWithoutDepth) {
+  constexpr size_t kW = 192, kH = 96, kShift = 8;
+  std::vector<uint8_t> left(kW * kH, 150), right(kW * kH, 150);
+  uint32_t state = 12345;
+  for (size_t y = 0; y < kH; ++y)
+    for (size_t x = 0; x < kW / 2; ++x) {
+      state = state * 1664525u + 1013904223u;
+      left[y * kW + x] = (state >> 24) & 1 ? 240 : 60;
+    }
+  for (size_t y = 0; y < kH; ++y)
+    for (size_t x = 0; x + kShift < kW; ++x) right[y * kW + x] = left[y * kW + x + kShift];
+  const double fx = 100, baseline = 0.2;  // f·B/8 = 2.5 m
+  const auto count = [&](double threshold, size_t x0, size_t x1, size_t& valid,
+                         size_t& near_truth) {
+    SgbmParams p{.num_disparities = 32};
+    p.texture_threshold = threshold;
+    StereoMatcher matcher(p, 0.3, 10.0);
+    std::vector<float> depth;
+    matcher.compute(left.data(), right.data(), static_cast<uint32_t>(kW), static_cast<uint32_t>(kH),
+                    fx, baseline, depth);
+    valid = near_truth = 0;
+    for (size_t y = 8; y + 8 < kH; ++y)
+      for (size_t x = x0; x < x1; ++x) {
+        const float z = depth[y * kW + x];
+        if (std::isnan(z)) continue;
+        ++valid;
+        near_truth += std::abs(z - 2.5) < 0.1 ? 1 : 0;
+      }
+  };
+  size_t valid = 0, near_truth = 0;
+  count(0, kW / 2 + 16, kW - 16, valid, near_truth);  // the flat half, no check
+  RecordProperty("flat_valid_without_check", std::to_string(valid));
+  count(2.0, kW / 2 + 16, kW - 16, valid, near_truth);
+  EXPECT_EQ(valid, 0u);
+  count(2.0, 48, kW / 2 - 16, valid, near_truth);  // the dotted half, with the check
+  const size_t area = (kH - 16) * (kW / 2 - 64);
+  EXPECT_GT(near_truth, area * 9 / 10) << valid << " valid of " << area;
+}
+
 TEST(StereoDepth, BadParametersAreErrors) {
   auto launch = Launch::from_string(R"(
 clock: sim
@@ -197,7 +239,7 @@ executor: {type: step}
 robots: [{id: 1, namespace: r1}]
 remap: {pose: pose_gt}
 components:
-  - {name: stereo, type: stereo_depth, params: {num_disparities: 50, block_size: 4, min_range_m: 3, max_range_m: 2, pose_source: vio}}
+  - {name: stereo, type: stereo_depth, params: {num_disparities: 50, block_size: 4, min_range_m: 3, max_range_m: 2, pose_source: vio, texture_window: 4, near_field_confirm_factor: 0.5}}
 )",
                                     "bad_params.yaml");
   ASSERT_FALSE(launch);
@@ -206,6 +248,8 @@ components:
   EXPECT_NE(all.find("num_disparities: must be a multiple of 16"), std::string::npos) << all;
   EXPECT_NE(all.find("block_size: must be odd"), std::string::npos) << all;
   EXPECT_NE(all.find("max_range_m: must be greater than min_range_m"), std::string::npos) << all;
+  EXPECT_NE(all.find("texture_window: must be odd"), std::string::npos) << all;
+  EXPECT_NE(all.find("near_field_confirm_factor: 0.5 is out of range"), std::string::npos) << all;
   // the pose comes by remap now: the old key is refused by name
   EXPECT_NE(all.find("pose_source: unknown parameter"), std::string::npos) << all;
 }
