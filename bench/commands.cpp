@@ -206,6 +206,11 @@ void add_pipeline(CLI::App& bench, CommandTable& table) {
   pipeline->add_option("--set", o->sets,
                        "override a launch parameter: name.key=value (as scancrew run --set)");
   pipeline->add_option("--seed", o->seed, "simulator seed (default 1)");
+  pipeline
+      ->add_option("--run", o->run_dir,
+                   "a mission's run directory: print its camera-to-command latency "
+                   "(metrics.json) instead of running the bench")
+      ->check(CLI::ExistingDirectory);
 }
 
 }  // namespace

@@ -273,7 +273,8 @@ void add_launch_options(CLI::App* cmd, RunOptions& o, const char* out_help,
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", o.out_dir, out_help);
   cmd->add_option("--set", o.sets,
-                  "override a parameter: name.key=value (a component's name, or run / executor)")
+                  "override a parameter: name.key=value (a component's name, or run / executor); "
+                  "clock=wall: run on the wall clock, multi-threaded (docs/missions.md)")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--robots", o.robot_count, robots_help)

@@ -173,6 +173,7 @@ Json odometry_metrics(const RunSummary::Odometry& o, double path_length_m) {
   Json j;
   j["frames"] = o.frames;
   j["losses"] = o.losses;
+  j["coasted_frames"] = o.coasted_frames;
   j["losses_per_100m"] = path_length_m > 0
                              ? Json(100.0 * static_cast<double>(o.losses) / path_length_m)
                              : Json(nullptr);
@@ -181,6 +182,14 @@ Json odometry_metrics(const RunSummary::Odometry& o, double path_length_m) {
   j["losses_by_reason"] = std::move(reasons);
   j["mean_frame_ms"] = o.mean_frame_ms;
   j["max_frame_ms"] = o.max_frame_ms;
+  if (o.scored_poses > 0) {  // against the simulator's truth (mission_monitor/pose_error.hpp)
+    j["scored_poses"] = o.scored_poses;
+    j["ate_rmse_m"] = o.ate_rmse_m;
+    j["ate_max_m"] = o.ate_max_m;
+    j["ate_percent_of_distance"] =
+        o.truth_distance_m > 0 ? Json(100.0 * o.ate_rmse_m / o.truth_distance_m) : Json(nullptr);
+    j["rpe_mean_percent"] = o.rpe_mean_percent;
+  }
   return j;
 }
 
@@ -213,6 +222,17 @@ Json robot_metrics(const MissionMonitor::RobotProgress& r, const RunSummary& sum
   j["state"] = r.have_state ? std::string(msg::to_string(r.mode)) : "starting";
   if (const auto o = summary.odometry.find(r.id); o != summary.odometry.end())
     j["odometry"] = odometry_metrics(o->second, r.path_length_m);
+  if (const auto l = summary.command_latency.find(r.id); l != summary.command_latency.end())
+    j["command_latency"] = {{"commands", l->second.commands},
+                            {"poses", l->second.poses},
+                            {"age_ms",
+                             {{"p50", l->second.age_p50_ms},
+                              {"p99", l->second.age_p99_ms},
+                              {"max", l->second.age_max_ms}}},
+                            {"first_use_ms",
+                             {{"p50", l->second.first_use_p50_ms},
+                              {"p99", l->second.first_use_p99_ms},
+                              {"max", l->second.first_use_max_ms}}}};
   return j;
 }
 
@@ -309,6 +329,23 @@ bool write_run_directory(const Launch& launch, const MissionMonitor& monitor, co
   m["contacts"] = {{"robot_robot", contacts.robot_robot}, {"robot_scene", contacts.robot_scene}};
   m["replans"] = replans;
   m["robots"] = std::move(robots);
+  if (!summary.frame_misalignment.empty()) {  // robots on an odometry (pose_error.hpp)
+    Json pairs = Json::array();
+    for (const RunSummary::FrameMisalignment& f : summary.frame_misalignment)
+      pairs.push_back({{"robots", {f.robot_a, f.robot_b}},
+                       {"samples", f.samples},
+                       {"mean_m", f.mean_m},
+                       {"max_m", f.max_m},
+                       {"last_m", f.last_m},
+                       {"max_yaw_deg", f.max_yaw_deg}});
+    m["frame_misalignment"] = std::move(pairs);
+  }
+  if (const auto& w = summary.wall_clock_sim)
+    m["wall_clock"] = {{"simulated_s", w->simulated_s},
+                       {"ticks", w->ticks},
+                       {"late_ticks", w->late_ticks},
+                       {"capped_ticks", w->capped_ticks},
+                       {"max_lag_s", w->max_lag_s}};
   if (const Tracer* tracer = launch.tracer()) ok = add_trace(m, *tracer, out) && ok;
 
   std::ofstream file(out / "metrics.json");

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
+#include <set>
 #include <thread>
 
 #include "executors/launch_builder.hpp"
@@ -9,17 +11,63 @@
 
 namespace scancrew {
 
+namespace {
+
+// The run: keys that mean sim time: the wall clock drops them from the file and refuses them
+// from --set.
+constexpr const char* kSimTimeRunKeys[] = {"compute_time", "real_time_factor", "sim_step_s"};
+
+// --set clock=wall: the launch runs on the wall clock as on robots. A step executor becomes
+// multi_threaded with a thread per core (a file's single_threaded or multi_threaded is kept);
+// the sim-time run: keys are dropped. `set` holds the section.key names --set gave: one that
+// asks for sim time contradicts the wall clock and is refused.
+void switch_to_wall_clock(YAML::Node& root, const std::set<std::string>& set,
+                          std::vector<std::string>& errors) {
+  const auto refuse = [&](const std::string& key, const char* why) {
+    errors.push_back("--set clock=wall contradicts --set " + key + ": " + why);
+  };
+  const YAML::Node type = root["executor"].IsMap() ? root["executor"]["type"] : YAML::Node();
+  const bool step = !type.IsDefined() || (type.IsScalar() && type.Scalar() == "step");
+  if (set.count("executor.type") && step)
+    refuse("executor.type", "the step executor runs on sim time");
+  for (const char* key : kSimTimeRunKeys)
+    if (set.count(std::string("run.") + key))
+      refuse(std::string("run.") + key,
+             "it is a sim-time setting (on the wall clock compute takes real time, at real-time "
+             "factor 1)");
+  root["clock"] = "wall";
+  if (step) {
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    YAML::Node executor(YAML::NodeType::Map);
+    executor["type"] = "multi_threaded";
+    executor["threads"] = std::min(cores, 64u);
+    root["executor"] = executor;
+  }
+  if (root["run"].IsMap())
+    for (const char* key : kSimTimeRunKeys) root["run"].remove(key);
+}
+
+}  // namespace
+
 std::vector<std::string> apply_launch_overrides(YAML::Node& root,
                                                 const std::vector<std::string>& overrides,
                                                 const std::string& file) {
   std::vector<std::string> errors;
+  std::set<std::string> set;  // section.key of run / executor / security
+  std::optional<std::string> clock;
   for (const std::string& o : overrides) {
     const auto eq = o.find('=');
     const auto dot = o.find('.');
+    if (o.starts_with("clock=")) {
+      clock = o.substr(eq + 1);
+      if (*clock != "wall" && *clock != "sim")
+        errors.push_back("--set " + o + ": clock is 'wall' or 'sim'");
+      continue;
+    }
     if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 ||
         dot + 1 == eq) {
       errors.push_back("--set " + o + ": expected name.key=value (a component's name or " +
-                       "run / executor / security, then the parameter)");
+                       "run / executor / security, then the parameter), or clock=wall|sim");
       continue;
     }
     const std::string name = o.substr(0, dot), key = o.substr(dot + 1, eq - dot - 1);
@@ -34,6 +82,7 @@ std::vector<std::string> apply_launch_overrides(YAML::Node& root,
       if (!root[name].IsDefined() || root[name].IsNull())
         root[name] = YAML::Node(YAML::NodeType::Map);
       root[name][key] = value;
+      set.insert(name + "." + key);
       continue;
     }
     bool found = false;
@@ -53,6 +102,8 @@ std::vector<std::string> apply_launch_overrides(YAML::Node& root,
       errors.push_back("--set " + o + ": no component named '" + name +
                        "' (nor run / executor / security) in " + file);
   }
+  if (clock == "wall") switch_to_wall_clock(root, set, errors);
+  if (clock == "sim") root["clock"] = "sim";
   return errors;
 }
 

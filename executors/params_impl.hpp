@@ -41,6 +41,9 @@ Result<std::string, std::string> read_text_file(const std::string& path);
 
 // Applies `--set name.key=value` overrides onto a launch file's tree (a component's params,
 // or the run / executor / security section) before it is read; the errors, one per bad one.
+// `clock=wall` runs the launch on the wall clock: a step executor becomes multi_threaded
+// (a thread per core) and the sim-time run: keys (compute_time, real_time_factor,
+// sim_step_s) are dropped; --set of one of those, or of executor.type=step, is refused.
 std::vector<std::string> apply_launch_overrides(YAML::Node& root,
                                                 const std::vector<std::string>& overrides,
                                                 const std::string& file);

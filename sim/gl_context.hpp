@@ -3,7 +3,8 @@
 // GlContext: a headless OpenGL context (EGL, surfaceless Mesa: no GPU or X server needed;
 // llvmpipe renders on the CPU). One serves every robot's cameras.
 // Thread safety: a context is current in one thread at a time; make_current() moves it
-// to the calling thread (cheap when it is already there).
+// to the calling thread (cheap when it is already there) once the thread that had it
+// called release() (EGL refuses a context current in another thread).
 
 #include <memory>
 #include <string>
@@ -21,6 +22,8 @@ class GlContext {
   GlContext& operator=(const GlContext&) = delete;
 
   void make_current();
+  // Not current in this thread any more: another thread may make it current.
+  void release();
 
  private:
   GlContext() = default;

@@ -165,6 +165,7 @@ struct TeamSim::Impl {
     rgb.resize(size_t{w} * h * 3);
     depth_raw.resize(size_t{w} * h);
     mjr_readPixels(rgb.data(), depth_raw.data(), viewport, &context);
+    gl->release();  // a multi-threaded executor's next tick may run on another thread
   }
 
   // OpenGL rows are bottom-up: row y of the image is row h-1-y of the buffer
@@ -275,6 +276,7 @@ Result<std::unique_ptr<TeamSim>, std::string> TeamSim::create(const SceneSpec& s
       return make_unexpected(
           std::string("no GL available: the offscreen framebuffer cannot be bound"));
     impl->rendering = true;
+    impl->gl->release();  // the executor may render from another thread
   }
   sim->impl_ = std::move(impl);
   return sim;

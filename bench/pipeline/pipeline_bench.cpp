@@ -11,6 +11,7 @@
 
 #include "bench/bench_stats.hpp"
 #include "bench/pipeline/pipeline_trial.hpp"
+#include "bench/pipeline/run_latency.hpp"
 
 namespace scancrew::bench {
 
@@ -197,6 +198,7 @@ void print_size(const PipelineBenchOptions& o, const ImageSize& size, uint32_t f
 }  // namespace
 
 int run_pipeline_bench(const PipelineBenchOptions& o) {
+  if (!o.run_dir.empty()) return print_run_latency(o.run_dir, o.json);
   const auto sizes = parse_sizes(o);
   if (!sizes) return 2;
   if (!(o.nominal_rate_hz > 0) || o.threads == 0 || !(o.tolerance > 0)) {

@@ -33,6 +33,7 @@
 // Prints one JSON object with --json ({"sizes": [{"width", "height", "nominal": {trial},
 // "max_rate_hz", "first_failing_rate_hz", "at_max_rate": {trial}, "trials": [...]}], ...}),
 // else tables. --quick: 12 pairs per trial, 2 search trials (a smoke test).
+// --run DIR: no bench; the camera-to-command latency a mission run measured (run_latency.hpp).
 
 #include <cstddef>
 #include <cstdint>
@@ -54,6 +55,9 @@ struct PipelineBenchOptions {
   uint64_t seed = 1;               // simulator seed
   bool quick = false;
   bool json = false;
+  // a mission's run directory: print its camera-to-command latency (run_latency.hpp)
+  // instead of running the bench
+  std::string run_dir;
 };
 
 int run_pipeline_bench(const PipelineBenchOptions& options);

@@ -155,6 +155,7 @@ void PathTracker::on_pose(const msg::Odometry& odom) {
   last_position_ = position;
   pose_ = odom;
   have_pose_ = pose_valid_ = true;
+  pose_unused_ = true;
   if (turning_first_) {
     const double yaw = yaw_of(msg::to_eigen(odom.T_world_body).linear());
     if (turn_last_yaw_) turned_rad_ += std::abs(std::remainder(yaw - *turn_last_yaw_, 2 * M_PI));
@@ -333,6 +334,29 @@ void PathTracker::on_tick() {
   }
   if (mode != Mode::kLost && mode != Mode::kIdle) logged_lost_ = logged_stale_pose_ = false;
   publish(cmd, now, mode);
+  if (pose_fresh) record_age(now);
+}
+
+void PathTracker::record_age(int64_t now_ns) {
+  const int64_t age = now_ns - pose_.header.stamp_ns;
+  command_age_.record(age);
+  if (!pose_unused_) return;
+  pose_unused_ = false;
+  ++poses_used_;
+  first_use_age_.record(age);
+}
+
+void PathTracker::summarize(RunSummary& into) const {
+  const auto ms = [](uint64_t ns) { return static_cast<double>(ns) * 1e-6; };
+  RunSummary::CommandLatency& l = into.command_latency[robot_id()];
+  l.commands = command_age_.count();
+  l.poses = poses_used_;
+  l.age_p50_ms = ms(command_age_.percentile_ns(0.5));
+  l.age_p99_ms = ms(command_age_.percentile_ns(0.99));
+  l.age_max_ms = ms(command_age_.max_ns());
+  l.first_use_p50_ms = ms(first_use_age_.percentile_ns(0.5));
+  l.first_use_p99_ms = ms(first_use_age_.percentile_ns(0.99));
+  l.first_use_max_ms = ms(first_use_age_.max_ns());
 }
 
 void PathTracker::publish(const msg::VelocityCommand& cmd, int64_t now_ns,

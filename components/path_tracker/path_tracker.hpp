@@ -39,6 +39,10 @@
 // Between two poses (the simulator sends them at camera rate, 5 Hz) the pose is predicted
 // from the commands sent since its stamp (predict_pose).
 //
+// Latency: each command computed from a fresh pose records its age (publish time minus
+// the pose's capture stamp); the first command after each new pose is camera to command.
+// summarize() reports both (RunSummary::CommandLatency, metrics.json).
+//
 // Thread safety: the callbacks run in the component's mutually exclusive group (the
 // default); the accessors are for tests after a run.
 
@@ -54,6 +58,7 @@
 #include "components/path_tracker/tracking_law.hpp"
 #include "components/path_tracker/velocity_mapping.hpp"
 #include "executors/component.hpp"
+#include "executors/latency_histogram.hpp"
 #include "executors/params.hpp"
 #include "interfaces/nav_msgs.hpp"
 
@@ -95,6 +100,10 @@ class PathTracker final : public Component {
   int64_t done_stamp_ns() const { return done_stamp_ns_; }
   uint32_t stale_plans() const { return stale_plans_; }
   bool ground() const { return ground_; }
+  // Age of the pose behind each command (ns): every command; the first after each new pose.
+  const LatencyHistogram& command_age() const { return command_age_; }
+  const LatencyHistogram& first_use_age() const { return first_use_age_; }
+  void summarize(RunSummary& into) const override;
 
  private:
   struct SentCommand {
@@ -122,6 +131,7 @@ class PathTracker final : public Component {
                                       const msg::Waypoint& w) const;
   void publish(const msg::VelocityCommand& cmd, int64_t now_ns, msg::RobotState::Mode mode);
   void warn_once(bool& flag, const char* what);
+  void record_age(int64_t now_ns);
 
   Config config_;
   bool ground_ = true;
@@ -156,6 +166,10 @@ class PathTracker final : public Component {
   std::deque<SentCommand> sent_;  // commands since the pose's stamp (prediction)
   Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();
   double travelled_m_ = 0;
+  // latency (camera to command)
+  LatencyHistogram command_age_, first_use_age_;
+  uint64_t poses_used_ = 0;
+  bool pose_unused_ = false;  // a pose arrived that no command has used yet
   msg::RobotState::Mode mode_ = msg::RobotState::Mode::kIdle;
   // logged once
   bool logged_lost_ = false, logged_stale_pose_ = false, logged_stale_plan_ = false,

@@ -1,5 +1,6 @@
 #include "components/team_simulator/team_simulator.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "executors/log.hpp"
@@ -51,6 +52,7 @@ TeamSimulator::Config TeamSimulator::read_config(ParamReader& p) {
   p.optional("imu_gyro_noise_radps", c.imu.gyro_noise_radps, {0, 10});
   p.optional("ground_speed_mps", c.ground_speed_mps, {0.01, 10});
   p.optional("multirotor_speed_mps", c.multirotor_speed_mps, {0.01, 20});
+  p.optional("max_catch_up_s", c.max_catch_up_s, {1e-3, 10});
   return c;
 }
 
@@ -60,9 +62,7 @@ TeamSimulator::TeamSimulator(ComponentContext context, Config config)
 TeamSimulator::~TeamSimulator() = default;
 
 Result<void, std::string> TeamSimulator::on_configure() {
-  if (clock().type() != ClockType::kSim)
-    return make_unexpected(
-        std::string("the team simulator runs on sim time: set 'clock: sim' in the launch file"));
+  wall_ = clock().type() == ClockType::kWall;
   if (team().empty() || team().front().ns.empty())
     return make_unexpected(
         std::string("the team simulator needs a robots: section (id, namespace, kind, start)"));
@@ -138,7 +138,12 @@ void TeamSimulator::tick() {
         SCANCREW_LOG_WARN("%s: robot %u: no velocity command for %.2f s: stopped (watchdog)",
                           qualified_name().c_str(), sim_->robot(i).id, config_.command_timeout_s);
       }
-  sim_->step_until(now);
+  // the time the physics shows, on the launch's clock: the sensors' capture stamp
+  int64_t stamp = now;
+  if (wall_)
+    stamp = step_to_wall(now);
+  else
+    sim_->step_until(now);
   for (const sim::ContactOnset& o : sim_->take_contact_onsets()) {
     if (contacts_logged_ >= config_.log_contacts) break;
     ++contacts_logged_;
@@ -153,29 +158,50 @@ void TeamSimulator::tick() {
   for (size_t i = 0; i < ports_.size(); ++i) {
     RobotPorts& p = ports_[i];
     const sim::RobotSpec& robot = sim_->robot(i);
-    if (now >= p.next_imu_ns) {
-      p.next_imu_ns = now + period_ns(robot.imu.rate_hz);
+    // on the wall clock the schedule keeps its rate whatever the ticks' jitter (a period
+    // missed whole is skipped)
+    const auto next = [&](int64_t due, double rate_hz) {
+      const int64_t period = period_ns(rate_hz);
+      return wall_ && due + period > stamp ? due + period : stamp + period;
+    };
+    if (stamp >= p.next_imu_ns) {
+      p.next_imu_ns = next(p.next_imu_ns, robot.imu.rate_hz);
       if (auto loan = p.imu.loan()) {
         **loan = sim_->imu(i);
-        (**loan).header.stamp_ns = now;
+        (**loan).header.stamp_ns = stamp;
         (void)p.imu.publish(std::move(*loan));
       }
     }
-    if (now >= p.next_frame_ns) {
-      p.next_frame_ns = now + period_ns(robot.camera.rate_hz);
-      publish_frame(i);
+    if (stamp >= p.next_frame_ns) {
+      p.next_frame_ns = next(p.next_frame_ns, robot.camera.rate_hz);
+      publish_frame(i, stamp);
     }
   }
 }
 
-void TeamSimulator::publish_frame(size_t i) {
+int64_t TeamSimulator::step_to_wall(int64_t now_ns) {
+  WallTiming& w = wall_timing_;
+  const int64_t due = now_ns - w.t0_ns;
+  const auto step_ns = static_cast<int64_t>(std::llround(config_.physics_step_s * 1e9));
+  ++w.ticks;
+  if (due - sim_->time_ns() > 2 * step_ns) ++w.late_ticks;
+  // at least one MuJoCo step, or the physics could never move
+  const int64_t cap_ns = std::max(static_cast<int64_t>(std::llround(config_.max_catch_up_s * 1e9)),
+                                  sim_->timestep_ns());
+  const int64_t target = std::min(due, sim_->time_ns() + cap_ns);
+  if (target < due) ++w.capped_ticks;
+  sim_->step_until(target);
+  w.max_lag_ns = std::max(w.max_lag_ns, due - sim_->time_ns());
+  return w.t0_ns + sim_->time_ns();
+}
+
+void TeamSimulator::publish_frame(size_t i, int64_t stamp_ns) {
   RobotPorts& p = ports_[i];
-  const int64_t now = clock().now_ns();
   ++frames_;
   // ground-truth pose at capture time
   if (auto loan = p.pose_gt.loan()) {
     msg::Odometry& odom = **loan;
-    odom.header.stamp_ns = now;
+    odom.header.stamp_ns = stamp_ns;
     odom.T_world_body = sim_->body_pose(i);
     odom.linear_velocity_mps = sim_->body_velocity(i);
     odom.angular_velocity_radps = {0, 0, sim_->body_yaw_rate(i)};
@@ -219,21 +245,34 @@ void TeamSimulator::publish_frame(size_t i) {
   }
   if (depth.valid()) sim_->make_noisy_depth(i, *depth);
   if (stereo.valid()) {
-    stereo->header.stamp_ns = now;
+    stereo->header.stamp_ns = stamp_ns;
     (void)p.stereo.publish(std::move(stereo));
   }
   if (depth.valid()) {
-    depth->header.stamp_ns = now;
+    depth->header.stamp_ns = stamp_ns;
     (void)p.depth.publish(std::move(depth));
   }
   if (depth_gt.valid()) {
-    depth_gt->header.stamp_ns = now;
+    depth_gt->header.stamp_ns = stamp_ns;
     (void)p.depth_gt.publish(std::move(depth_gt));
   }
 }
 
+void TeamSimulator::on_activate() {
+  if (wall_) wall_timing_ = {.t0_ns = clock().now_ns()};
+}
+
 void TeamSimulator::on_deactivate() {
   if (!sim_) return;
+  if (wall_) {
+    const WallTiming& w = wall_timing_;
+    SCANCREW_LOG_INFO(
+        "%s: wall clock: %llu ticks, %llu late (more than two physics steps behind), %llu at "
+        "the catch-up bound; the physics lagged the wall by %.3f s at most",
+        qualified_name().c_str(), static_cast<unsigned long long>(w.ticks),
+        static_cast<unsigned long long>(w.late_ticks),
+        static_cast<unsigned long long>(w.capped_ticks), static_cast<double>(w.max_lag_ns) * 1e-9);
+  }
   const sim::ContactCounts c = sim_->contacts();
   SCANCREW_LOG_INFO(
       "%s: %.1f s simulated, %llu frames, %llu dropped (no free buffer), contacts robot-scene "
@@ -249,6 +288,14 @@ void TeamSimulator::summarize(RunSummary& into) const {
   if (!sim_) return;
   into.contacts.robot_scene += sim_->contacts().robot_scene;
   into.contacts.robot_robot += sim_->contacts().robot_robot;
+  if (!wall_) return;
+  const WallTiming& w = wall_timing_;
+  into.wall_clock_sim =
+      RunSummary::WallClockSim{.simulated_s = static_cast<double>(sim_->time_ns()) * 1e-9,
+                               .ticks = w.ticks,
+                               .late_ticks = w.late_ticks,
+                               .capped_ticks = w.capped_ticks,
+                               .max_lag_s = static_cast<double>(w.max_lag_ns) * 1e-9};
 }
 
 SCANCREW_REGISTER_COMPONENT(TeamSimulator, "team_simulator")

@@ -12,6 +12,12 @@
 // Time: a timer every physics step; each tick steps MuJoCo to the clock's time, then
 // renders and publishes what is due. With the step executor (lockstep), everything the
 // robots do with a frame finishes before the simulation moves on: runs are deterministic.
+// On the wall clock (a robot's multi-threaded graph at real-time factor 1) the physics
+// starts at activation (t0) and each tick steps it to now - t0, at most max_catch_up_s at a
+// time; messages are stamped t0 + the physics time they show (their capture time). A tick
+// that starts more than two physics steps behind the wall is late; late ticks, ticks stopped
+// at the catch-up bound and the largest lag are logged at the end and go to metrics.json.
+// Not deterministic: the threads' timing decides when commands reach the physics.
 
 #include <memory>
 #include <string>
@@ -48,6 +54,8 @@ class TeamSimulator final : public Component {
     sim::DepthNoiseSpec depth_noise;
     sim::ImuSpec imu;
     double ground_speed_mps = 0.5, multirotor_speed_mps = 0.6;
+    double max_catch_up_s = 0.1;  // wall clock: the most physics time one tick steps (at
+                                  // least one MuJoCo step)
   };
   static Config read_config(ParamReader& p);
 
@@ -67,16 +75,29 @@ class TeamSimulator final : public Component {
     int64_t last_command_ns = -1;  // -1: none yet, or stopped by the watchdog
   };
 
+  // Physics timing on the wall clock (WallClockSim of metrics.json).
+  struct WallTiming {
+    int64_t t0_ns = 0;  // the wall time of physics time 0 (activation)
+    uint64_t ticks = 0, late_ticks = 0, capped_ticks = 0;
+    int64_t max_lag_ns = 0;
+  };
+
   Result<void, std::string> on_configure() override;
+  void on_activate() override;
   void on_deactivate() override;
   void tick();
-  void publish_frame(size_t robot);
+  // Steps the physics towards the wall time now (bounded); returns the stamp of the state
+  // reached, on the wall clock.
+  int64_t step_to_wall(int64_t now_ns);
+  void publish_frame(size_t robot, int64_t stamp_ns);
 
   Config config_;
   std::unique_ptr<sim::TeamSim> sim_;
   std::vector<RobotPorts> ports_;
   uint64_t frames_ = 0, dropped_frames_ = 0;
   int contacts_logged_ = 0;
+  bool wall_ = false;  // on the wall clock
+  WallTiming wall_timing_;
 };
 
 }  // namespace scancrew::team_simulator

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <thread>
 
 #include "executors/launch.hpp"
 #include "tests/executors/launch_harness.hpp"
@@ -171,6 +172,55 @@ components:
   EXPECT_TRUE(named);
   auto out_of_range = Launch::from_string(text, "set.yaml", {.overrides = {"run.duration_s=-1"}});
   EXPECT_FALSE(out_of_range);
+}
+
+// --set clock=wall: a sim-time launch (as a mission composes it) runs on the wall clock, on a
+// multi-threaded executor with a thread per core, without its sim-time run: keys.
+TEST(Launch, SetClockWallRunsASimLaunchOnTheWallClockMultiThreaded) {
+  const std::string text = R"(
+clock: sim
+executor: {type: step}
+run: {duration_s: 5, sim_step_s: 0.05, compute_time: charged, real_time_factor: 2}
+components:
+  - {name: a, type: test_named, per_robot: false}
+)";
+  auto launch = Launch::from_string(text, "wall.yaml", {.overrides = {"clock=wall"}});
+  ASSERT_TRUE(launch) << launch.error().front();
+  const LaunchSettings& s = (*launch)->settings();
+  EXPECT_EQ(s.clock, ClockType::kWall);
+  EXPECT_EQ(s.executor, LaunchSettings::ExecutorType::kMultiThreaded);
+  EXPECT_EQ(s.threads, std::max(1u, std::thread::hardware_concurrency()));
+  EXPECT_DOUBLE_EQ(s.duration_s, 5.0);            // kept: now wall seconds
+  EXPECT_TRUE((*launch)->place_stats().empty());  // compute is not charged
+  // the file's own threaded executor is kept
+  std::string threaded = text;
+  threaded.replace(threaded.find("{type: step}"), 12, "{type: single_threaded}");
+  launch = Launch::from_string(threaded, "wall.yaml", {.overrides = {"clock=wall"}});
+  ASSERT_TRUE(launch) << launch.error().front();
+  EXPECT_EQ((*launch)->settings().executor, LaunchSettings::ExecutorType::kSingleThreaded);
+}
+
+TEST(Launch, SetClockWallRefusesSimTimeSettingsNamingThem) {
+  const std::string text = R"(
+clock: sim
+executor: {type: step}
+components:
+  - {name: a, type: test_named, per_robot: false}
+)";
+  for (const char* contradiction : {"run.compute_time=charged", "run.compute_time=free",
+                                    "run.real_time_factor=1", "executor.type=step"}) {
+    auto launch =
+        Launch::from_string(text, "wall.yaml", {.overrides = {"clock=wall", contradiction}});
+    ASSERT_FALSE(launch) << contradiction;
+    EXPECT_NE(launch.error().front().find(
+                  std::string("--set clock=wall contradicts --set ") +
+                  std::string(contradiction).substr(0, std::string(contradiction).find('='))),
+              std::string::npos)
+        << launch.error().front();
+  }
+  auto bad = Launch::from_string(text, "wall.yaml", {.overrides = {"clock=steady"}});
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().front().find("clock is 'wall' or 'sim'"), std::string::npos);
 }
 
 // Which computer each component runs on (docs/runtime.md, "Compute-charged time").

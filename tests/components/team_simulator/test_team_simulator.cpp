@@ -1,5 +1,6 @@
 // The sim backend in a composed graph, on sim time with the step executor: sensors at
-// their rates, velocity commands applied, lockstep runs reproducible.
+// their rates, velocity commands applied, lockstep runs reproducible; on the wall clock
+// with a multi-threaded executor: the physics follows the wall, with bounded catch-up.
 
 #include <gtest/gtest.h>
 
@@ -131,16 +132,86 @@ TEST(TeamSimulator, TwoLockstepRunsGiveIdenticalSensorsAndTrajectories) {
   }
 }
 
-TEST(TeamSimulator, RefusesAWallClockAndABadScene) {
+// The launch on the wall clock with a multi-threaded executor, for `duration_s` of wall time.
+RunResult run_on_wall_clock(double duration_s, const std::string& sim_params = "") {
   std::string text = launch_text(SCANCREW_SOURCE_DIR "/launch_cfg/scenes/tiny.yaml");
   text.replace(text.find("clock: sim"), 10, "clock: wall");
-  text.replace(text.find("executor: {type: step}"), 22, "executor: {type: single_threaded}");
+  text.replace(text.find("executor: {type: step}"), 22,
+               "executor: {type: multi_threaded, threads: 2}");
+  text.replace(text.find("duration_s: 2.0"), 15, "duration_s: " + std::to_string(duration_s));
+  text.replace(text.find("      seed: 3\n"), 14, "      seed: 3\n" + sim_params);
   auto launch = Launch::from_string(text, "wall.yaml");
-  ASSERT_FALSE(launch);
-  EXPECT_NE(launch.error().front().find("runs on sim time"), std::string::npos)
-      << launch.error().front();
+  EXPECT_TRUE(launch) << (launch ? "" : launch.error().front());
+  RunResult r;
+  if (!launch) return r;
+  r.launch = std::move(launch).value();
+  r.launch->run();
+  for (const auto& c : r.launch->components())
+    if (auto* rec = dynamic_cast<Recorder*>(c.get())) r.recorders.push_back(rec);
+  return r;
+}
 
-  launch = Launch::from_string(launch_text("/nonexistent/scene.yaml"), "bad.yaml");
+// Wall-clock runs are not reproducible: ranges only, wide enough for a loaded 2-core machine.
+TEST(TeamSimulator, StepsThePhysicsToWallTimeOnAMultiThreadedExecutor) {
+  const int64_t before_ns = WallClock().now_ns();
+  RunResult run = run_on_wall_clock(1.5);
+  ASSERT_EQ(run.recorders.size(), 2u);
+  const RunSummary summary = run.launch->summary();
+  ASSERT_TRUE(summary.wall_clock_sim.has_value());
+  const RunSummary::WallClockSim& w = *summary.wall_clock_sim;
+  // the physics followed the wall: 1.5 s, less the start-up and the last tick's period
+  EXPECT_GT(w.simulated_s, 1.0);
+  EXPECT_LT(w.simulated_s, 1.6);
+  EXPECT_GT(w.ticks, 50u);  // 100 Hz timer
+  EXPECT_LT(w.ticks, 160u);
+  EXPECT_LE(w.late_ticks, w.ticks);
+  for (Recorder* rec : run.recorders) {
+    // camera at 5 Hz on the wall clock, stamped with the physics time: 0.2 s apart on
+    // average (drift-free); one gap is off by at most a catch-up step (0.1 s) either way
+    ASSERT_GE(rec->stereo_stamps.size(), 5u);
+    EXPECT_LE(rec->stereo_stamps.size(), 9u);
+    EXPECT_GT(rec->stereo_stamps.front(), before_ns);
+    const double mean_gap_s =
+        static_cast<double>(rec->stereo_stamps.back() - rec->stereo_stamps.front()) * 1e-9 /
+        static_cast<double>(rec->stereo_stamps.size() - 1);
+    EXPECT_GE(mean_gap_s, 0.19);
+    EXPECT_LE(mean_gap_s, 0.26);
+    for (size_t k = 1; k < rec->stereo_stamps.size(); ++k) {
+      const int64_t gap = rec->stereo_stamps[k] - rec->stereo_stamps[k - 1];
+      EXPECT_GE(gap, 95'000'000) << k;
+      EXPECT_LE(gap, 350'000'000) << k;
+    }
+    EXPECT_GT(rec->depth_valid, 0u);  // rendered from the executor's threads
+    // driving at 0.5 m/s for most of the run
+    ASSERT_GE(rec->poses.size(), 2u);
+    const double moved = rec->poses.back().position.x - rec->poses.front().position.x;
+    EXPECT_GT(moved, 0.25);
+    EXPECT_LT(moved, 0.8);
+  }
+}
+
+TEST(TeamSimulator, CatchesUpWithTheWallAtMostMaxCatchUpPerTick) {
+  // 2 ms of physics (or one MuJoCo step) per 10 ms tick at most: the physics falls behind,
+  // the ticks say so
+  RunResult run = run_on_wall_clock(1.0, "      max_catch_up_s: 0.002\n");
+  ASSERT_EQ(run.recorders.size(), 2u);
+  const RunSummary summary = run.launch->summary();
+  ASSERT_TRUE(summary.wall_clock_sim.has_value());
+  const RunSummary::WallClockSim& w = *summary.wall_clock_sim;
+  // a tick steps one MuJoCo step at least
+  const auto* sim = run.launch->find_component<TeamSimulator>();
+  ASSERT_NE(sim, nullptr);
+  const double cap_s = std::max(0.002, static_cast<double>(sim->simulator()->timestep_ns()) * 1e-9);
+  EXPECT_LT(cap_s, 0.01);  // below the tick period: the physics falls behind
+  EXPECT_GT(w.simulated_s, 0.0);
+  EXPECT_LE(w.simulated_s, cap_s * static_cast<double>(w.ticks) + 1e-6);
+  EXPECT_GT(w.max_lag_s, 0.3);
+  EXPECT_GT(w.capped_ticks, w.ticks / 2);
+  EXPECT_GT(w.late_ticks, w.ticks / 2);
+}
+
+TEST(TeamSimulator, RefusesABadScene) {
+  auto launch = Launch::from_string(launch_text("/nonexistent/scene.yaml"), "bad.yaml");
   ASSERT_FALSE(launch);
   EXPECT_NE(launch.error().front().find("cannot read the scene file: no such file"),
             std::string::npos)
