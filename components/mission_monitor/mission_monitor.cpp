@@ -78,6 +78,11 @@ Result<void, std::string> MissionMonitor::on_configure() {
     const std::string prefix = "/" + m.ns + "/";
     create_subscription<msg::Odometry>(prefix + "pose_gt", {.depth = 4},
                                        [this, i](Sample<msg::Odometry>&& s) { on_pose(i, *s); });
+    if (resolve_in("pose", m.ns) != prefix + "pose_gt") {
+      if (!pose_error_) pose_error_.emplace(n);
+      create_teammate_subscription<msg::Odometry>(
+          "pose", m.ns, {.depth = 4}, [this, i](Sample<msg::Odometry>&& s) { on_estimate(i, *s); });
+    }
     create_subscription<msg::RobotState>(
         prefix + "robot_state", {.depth = 8},
         [this, i](Sample<msg::RobotState>&& s) { on_state(i, *s); });
@@ -126,6 +131,35 @@ void MissionMonitor::on_pose(size_t robot, const msg::Odometry& odom) {
   }
   last_pose_[robot] = odom;
   have_pose_[robot] = true;
+  if (pose_error_) pose_error_->on_truth(robot, odom);
+}
+
+void MissionMonitor::on_estimate(size_t robot, const msg::Odometry& odom) {
+  const std::lock_guard lock(mutex_);
+  pose_error_->on_estimate(robot, odom);
+}
+
+void MissionMonitor::summarize(RunSummary& into) const {
+  const std::lock_guard lock(mutex_);
+  if (!pose_error_) return;
+  for (size_t i = 0; i < robots_.size(); ++i) {
+    const std::optional<eval::OdometryError> e = pose_error_->robot_error(i);
+    if (!e) continue;
+    RunSummary::Odometry& o = into.odometry[robots_[i].id];
+    o.scored_poses = e->matched;
+    o.truth_distance_m = e->distance_m;
+    o.ate_rmse_m = e->ate_rmse_m;
+    o.ate_max_m = e->ate_max_m;
+    o.rpe_mean_percent = e->rpe_mean_percent;
+  }
+  for (const PoseError::Pair& p : pose_error_->pairs())
+    into.frame_misalignment.push_back({.robot_a = robots_[p.a].id,
+                                       .robot_b = robots_[p.b].id,
+                                       .samples = p.samples,
+                                       .mean_m = p.mean_m,
+                                       .max_m = p.max_m,
+                                       .last_m = p.last_m,
+                                       .max_yaw_deg = p.max_yaw_deg});
 }
 
 void MissionMonitor::on_state(size_t robot, const msg::RobotState& state) {
@@ -228,6 +262,7 @@ void MissionMonitor::on_path_tick() {
   {
     const std::lock_guard lock(mutex_);
     account_time(t);
+    if (pose_error_) pose_error_->sample(clock().now_ns());
     for (size_t i = 0; i < robots_.size(); ++i) {
       if (!have_pose_[i]) continue;
       const msg::Pose3& p = last_pose_[i].T_world_body;

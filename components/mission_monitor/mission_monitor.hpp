@@ -21,9 +21,14 @@
 // state other than kLost again counts again. (maps: shared: the one source decides, as
 // before.)
 //
-// Inputs, per robot ns: /<ns>/pose_gt, /<ns>/robot_state, and /<ns>/map, /<ns>/ises
-// (maps: per_robot), /<ns>/ises only (maps: none: a process that cannot see the robots'
-// maps, such as a team's simulator process; MapUpdate does not cross processes, so the
+// Odometry: where the robots run on an estimated pose (the port `pose` of /<ns> resolves to
+// another topic than /<ns>/pose_gt, e.g. remap pose: odom), that pose is scored against the
+// truth, per robot and between robots (pose_error.hpp), into RunSummary::odometry and
+// frame_misalignment.
+//
+// Inputs, per robot ns: /<ns>/pose_gt, /<ns>/robot_state, the robot's `pose` if not pose_gt, and
+// /<ns>/map, /<ns>/ises (maps: per_robot), /<ns>/ises only (maps: none: a process that cannot see
+// the robots' maps, such as a team's simulator process; MapUpdate does not cross processes, so the
 // coverage stays "not measured", -1) or /map, /ises (maps: shared).
 // Parameters: scene ("" or maps: none = no coverage estimate), coverage_density_per_m2,
 // coverage_truncation_share, coverage_period_s, path_period_s, maps, stop_when_complete,
@@ -38,6 +43,7 @@
 #include <string_view>
 #include <vector>
 
+#include "components/mission_monitor/pose_error.hpp"
 #include "components/mission_monitor/surface_coverage.hpp"
 #include "core/enum_names.hpp"
 #include "executors/component.hpp"
@@ -127,6 +133,8 @@ class MissionMonitor final : public Component {
   void set_depth_required(bool required) { depth_required_ = required; }
   // The team's kinds and start positions (the reachable ground truth's, team_reachable.hpp).
   std::vector<eval::TeamStart> team_starts() const;
+  // The odometry's error against the truth (when the robots run on one; see above).
+  void summarize(RunSummary& into) const override;
 
  private:
   struct Source {
@@ -139,6 +147,7 @@ class MissionMonitor final : public Component {
   Result<void, std::string> on_configure() override;
   void on_activate() override;
   void on_pose(size_t robot, const msg::Odometry& odom);
+  void on_estimate(size_t robot, const msg::Odometry& odom);
   void on_state(size_t robot, const msg::RobotState& state);
   void on_ises(size_t source, const msg::IseSet& ises);
   void on_map(size_t source, const msg::MapUpdate& update);
@@ -158,6 +167,7 @@ class MissionMonitor final : public Component {
   std::vector<double> idle_since_s_;  // < 0: not idle
   double last_lost_s_ = -1;           // when the latest robot was lost (< 0: none yet)
   bool all_lost_logged_ = false;
+  std::optional<PoseError> pose_error_;  // robots on an estimated pose only
   std::vector<report::PathSample> paths_;
   std::vector<report::CoverageSample> coverage_;
   std::string stop_reason_;
