@@ -61,6 +61,7 @@ TsdfMapper::Config TsdfMapper::read_config(ParamReader& p) {
   p.choice("mesh_colour", c.mesh_colour, kMeshColourNames);
   p.optional("mesh_min_weight", c.mesh_min_weight, {0, 1e6});
   p.optional("octomap_path", c.octomap_path);
+  p.optional("align_teammates", c.align_teammates);
   return c;
 }
 
@@ -69,7 +70,8 @@ TsdfMapper::TsdfMapper(ComponentContext context, Config config)
       config_(std::move(config)),
       integrator_(config_.tsdf),
       global_(config_.tsdf),
-      current_(config_.tsdf) {}
+      current_(config_.tsdf),
+      own_(config_.tsdf) {}
 
 TsdfMapper::~TsdfMapper() = default;
 
@@ -152,6 +154,24 @@ void TsdfMapper::on_deactivate() {
         static_cast<unsigned long long>(s.duplicates),
         static_cast<unsigned long long>(s.requests_sent),
         static_cast<unsigned long long>(s.replies_sent));
+  if (config_.mode == MapMode::kDistributed && config_.align_teammates) {
+    std::string corrections;
+    for (const auto& [author, a] : alignment_) {
+      if (!a.applied) continue;
+      const Eigen::Vector3d t = a.T_own_teammate.translation();
+      const Eigen::Matrix3d& r = a.T_own_teammate.linear();
+      char one[128];
+      std::snprintf(one, sizeof one, "; robot %u by (%.3f, %.3f, %.3f) m, %.2f deg", author, t.x(),
+                    t.y(), t.z(), std::atan2(r(1, 0), r(0, 0)) * 180.0 / M_PI);
+      corrections += one;
+    }
+    SCANCREW_LOG_INFO(
+        "%s: teammates' frames: %llu registrations, %llu refused, %llu corrections "
+        "adopted%s",
+        qualified_name().c_str(), static_cast<unsigned long long>(s.registrations),
+        static_cast<unsigned long long>(s.registrations_refused),
+        static_cast<unsigned long long>(s.corrections_adopted), corrections.c_str());
+  }
   write_outputs();
 }
 

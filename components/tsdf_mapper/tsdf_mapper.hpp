@@ -27,6 +27,15 @@
 //   (weights summed, distances weight-averaged: patch_codec's fusion), plus the current
 //   patch. Own patches are fused as decoded from their wire form, like the teammates'
 //   copies, so robots holding the same patches hold the same map.
+//   Drift between robots (align_teammates, off by default: see docs/mapping.md, "Drift
+//   between robots", for why): each robot's patches are in its own odometry's frame, which
+//   drifts. Every few patches of a teammate, its latest patches are registered onto this
+//   robot's own patches (core/tsdf/sdf_registration.hpp: x, y, z, yaw); a correction that
+//   moves them by more than a quarter voxel and less than the truncation distance (the
+//   registration's reach), and cuts the residual to under 0.7 of the current one, is
+//   adopted: the teammate's patches are fused through it from then on
+//   (core/tsdf/patch_transform.hpp) and the global estimate is rebuilt from the patches
+//   held. What is relayed stays as received.
 //
 // Ports: in `depth` (msg::DepthImage; single and distributed), out `map` (MapUpdate),
 // `patch`, `patch_reply` (msg::TsdfPatch), `patch_list` (msg::PatchList),
@@ -41,14 +50,17 @@
 // unchanged by anything refused.
 
 #include <array>
+#include <deque>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "core/enum_names.hpp"
 #include "core/tsdf/integrator.hpp"
+#include "core/tsdf/patch_codec.hpp"
 #include "core/tsdf/tsdf_map.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
@@ -91,6 +103,8 @@ struct TsdfMapperStats {
   uint64_t snapshots = 0;
   double integrate_ms_sum = 0;
   double integrate_ms_max = 0;
+  // drift between robots (align_teammates)
+  uint64_t registrations = 0, registrations_refused = 0, corrections_adopted = 0;
 };
 
 class TsdfMapper final : public Component {
@@ -114,8 +128,9 @@ class TsdfMapper final : public Component {
     // written when the component stops (empty: not written)
     std::string mesh_path;                        // the global estimate's mesh, binary PLY
     MeshColour mesh_colour = MeshColour::kOwner;  // owner (robots' patches in their colour) | none
-    double mesh_min_weight = 0;  // MesherConfig::min_weight: 0 meshes every observed voxel
-    std::string octomap_path;    // known space as an OctoMap (.bt)
+    double mesh_min_weight = 0;    // MesherConfig::min_weight: 0 meshes every observed voxel
+    std::string octomap_path;      // known space as an OctoMap (.bt)
+    bool align_teammates = false;  // distributed: register teammates' patches (see above)
   };
   static Config read_config(ParamReader& p);
 
@@ -129,11 +144,20 @@ class TsdfMapper final : public Component {
   std::shared_ptr<const MapSnapshot> snapshot() const;
   // IDs of the patches held (private + public).
   std::vector<uint64_t> held_patches() const;
+  // The correction adopted for a teammate's frame (align_teammates); nullopt: none.
+  std::optional<Eigen::Isometry3d> teammate_correction(uint32_t robot) const;
 
  private:
   struct Held {
     msg::TsdfPatch patch;  // encoded, as received or sent: replies reuse it
     bool own = false;
+  };
+  // A teammate's frame as this robot's map sees it (align_teammates), by the patches' author.
+  struct Alignment {
+    Eigen::Isometry3d T_own_teammate = Eigen::Isometry3d::Identity();
+    bool applied = false;                   // a correction was adopted
+    std::deque<tsdf::DecodedPatch> recent;  // its latest patches, registered together
+    uint32_t since_registration = 0;
   };
   struct Teammate {
     uint32_t id = 0;
@@ -151,6 +175,11 @@ class TsdfMapper final : public Component {
   void complete_patch();
   bool adds_information() const;
   void on_patch(const msg::TsdfPatch& patch);
+  // tsdf_mapper_alignment.cpp: a teammate's decoded patch into the global estimate, through
+  // its correction; the registration; the estimate rebuilt after a new correction
+  void fuse_teammate(tsdf::DecodedPatch&& patch);
+  void align(uint32_t author, Alignment& alignment);
+  void rebuild_global();
   void on_patch_list(uint32_t from, const msg::PatchList& list);
   void on_request(const msg::PatchRequest& request);
   void on_teammate_state(size_t teammate, const msg::RobotState& state);
@@ -173,6 +202,8 @@ class TsdfMapper final : public Component {
   double current_travel_m_ = 0;
   bool have_last_position_ = false;
   std::map<uint64_t, Held> held_;
+  TsdfMap own_;  // own patches only: what teammates' patches are registered to
+  std::map<uint32_t, Alignment> alignment_;               // by the patches' author
   std::map<std::pair<uint32_t, uint64_t>, size_t> asks_;  // (asker, patch): times asked
   std::set<uint64_t> replies_due_;  // patches asked of this robot, not sent yet (the pool)
   std::map<uint64_t, int64_t> missing_since_ns_, last_request_ns_;

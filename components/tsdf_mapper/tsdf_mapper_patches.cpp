@@ -95,6 +95,7 @@ void TsdfMapper::complete_patch() {
     global_.advance_sequence_to(current_.sequence());
     if (auto own = decode_patch(p, config_.tsdf)) {
       fuse_blocks(global_, *own);
+      if (config_.align_teammates) fuse_blocks(own_, *own);
     } else {
       SCANCREW_LOG_ERROR("%s: own patch %u does not decode (%s): fused unquantised",
                          qualified_name().c_str(), index, own.error().c_str());
@@ -131,9 +132,9 @@ void TsdfMapper::on_patch(const msg::TsdfPatch& patch) {
     return;
   }
   global_.advance_sequence_to(current_.sequence());
-  fuse_blocks(global_, *decoded);
-  ++stats_.patches_received;
   held_.emplace(patch.patch_id, Held{patch, false});
+  fuse_teammate(std::move(*decoded));
+  ++stats_.patches_received;
   missing_since_ns_.erase(patch.patch_id);
   last_request_ns_.erase(patch.patch_id);
   publish_list();
