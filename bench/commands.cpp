@@ -55,6 +55,11 @@ void add_perception(CLI::App& bench, CommandTable& table) {
       ->add_option("--recording", o->recording,
                    "play this .sclog (stereo, imu, pose_gt, depth_gt) instead of recording one")
       ->check(CLI::ExistingFile);
+  perception->add_option("--robot", o->robot,
+                         "play only this robot namespace's topics of a mission recording");
+  perception->add_flag("--no-coast", o->no_coast,
+                       "VIO with max_coast_s 0: each failed frame a loss (as before coasting)");
+  perception->add_flag("--vio-only", o->vio_only, "the odometry only, no stereo depth");
   perception->add_option("--keep", o->keep, "write the recording made to this path and keep it");
   perception->add_option("--distance", o->distance_m, "metres to drive (default 62)")
       ->check(CLI::Range(0.5, 10000.0));

@@ -61,6 +61,12 @@ typename C::Config defaults() {
   return C::read_config(p);
 }
 
+vio::Vio::Config vio_defaults(bool no_coast) {
+  vio::Vio::Config c = defaults<vio::Vio>();
+  if (no_coast) c.odometry.max_coast_s = 0;
+  return c;
+}
+
 // Plays the recording through the stereo and odometry cores. A frame is processed once the
 // IMU is kSettleNs past its stamp: the gyro prior needs the samples up to the frame, and
 // by then the ground-truth pose and depth of the same instant (recorded in the same sim
@@ -69,9 +75,11 @@ constexpr int64_t kSettleNs = 50'000'000;
 
 class Evaluator {
  public:
-  Evaluator()
-      : stereo_config_(defaults<stereo_depth::StereoDepth>()),
-        vio_config_(defaults<vio::Vio>()),
+  Evaluator(std::string robot, bool no_coast, bool vio_only)
+      : robot_(std::move(robot)),
+        vio_only_(vio_only),
+        stereo_config_(defaults<stereo_depth::StereoDepth>()),
+        vio_config_(vio_defaults(no_coast)),
         matcher_(stereo_config_.sgbm, stereo_config_.min_range_m, stereo_config_.max_range_m),
         odometry_(vio_config_.odometry),
         imu_(static_cast<int64_t>(vio_config_.imu_max_gap_s * 1e9)) {}
@@ -89,13 +97,19 @@ class Evaluator {
       if (!next) return make_unexpected(next.error());
       if (!*next) break;
       const recorder::LogEntry& entry = **next;
-      const std::string& type = reader.topics()[entry.topic].type;
+      const recorder::LogTopic& topic = reader.topics()[entry.topic];
+      if (!robot_.empty() && !topic.name.starts_with("/" + robot_ + "/")) continue;
+      const std::string& type = topic.type;
       Result<void, std::string> decoded;
       if (type == msg::StereoFrame::kTypeName) {
+        if (stereo_topic_.empty()) stereo_topic_ = topic.name;
+        if (topic.name != stereo_topic_)
+          return make_unexpected(path + ": stereo on " + stereo_topic_ + " and " + topic.name +
+                                 ": several robots; pick one with --robot NS");
         if (decoded = msg::decode(entry.message, stereo); decoded) frames_.push_back(stereo);
       } else if (type == msg::Imu::kTypeName) {
         if (decoded = msg::decode(entry.message, imu); decoded) on_imu(imu);
-      } else if (type == msg::Odometry::kTypeName) {
+      } else if (type == msg::Odometry::kTypeName && topic.name.ends_with("pose_gt")) {
         if (decoded = msg::decode(entry.message, pose); decoded)
           truth_[pose.header.stamp_ns] = pose.T_world_body;
       } else if (type == msg::DepthImage::kTypeName) {
@@ -113,7 +127,9 @@ class Evaluator {
     process_ready(true);
     std::fprintf(stderr, "\rprocessing: %llu frames\n",
                  static_cast<unsigned long long>(processed_));
-    if (processed_ == 0) return make_unexpected(path + ": no stereo frames");
+    if (processed_ == 0)
+      return make_unexpected(path + ": no stereo frames" +
+                             (robot_.empty() ? std::string() : " under /" + robot_ + "/"));
     return {};
   }
 
@@ -139,8 +155,10 @@ class Evaluator {
     out["vio_resets"] = odometry_.resets();
     out["vio_keyframes"] = odometry_.keyframes();
     out["vio_untracked_frames"] = untracked_;
+    out["vio_coasted_frames"] = odometry_.coasted_frames();
     if (e) {
       out["distance_m"] = e->distance_m;
+      out["losses_per_100m"] = e->distance_m > 0 ? 100.0 * odometry_.resets() / e->distance_m : 0.0;
       out["ate_m"] = e->ate_rmse_m;
       out["ate_max_m"] = e->ate_max_m;
       out["rpe_pct"] = e->rpe_mean_percent;
@@ -171,11 +189,17 @@ class Evaluator {
 
   void process(const msg::StereoFrame& f) {
     if (vio::check_stereo(f) != vio::InputError::kNone) return;
+    width_ = f.intrinsics.width;
+    height_ = f.intrinsics.height;
+    if (!vio_only_) compute_depth(f);
+    vio(f);
+    ++processed_;
+  }
+
+  void compute_depth(const msg::StereoFrame& f) {
     const int64_t stamp = f.header.stamp_ns;
     const uint32_t w = f.intrinsics.width, h = f.intrinsics.height;
-    width_ = w;
-    height_ = h;
-    auto t0 = Clock::now();
+    const auto t0 = Clock::now();
     matcher_.compute(f.left.data(), f.right.data(), w, h, f.intrinsics.fx, f.baseline_m, depth_);
     depth_ms_.ms.push_back(ms_since(t0));
     if (auto gt = depth_gt_.find(stamp); gt != depth_gt_.end()) {
@@ -183,7 +207,11 @@ class Evaluator {
       ++depth_frames_;
       depth_gt_.erase(depth_gt_.begin(), std::next(gt));
     }
+  }
 
+  void vio(const msg::StereoFrame& f) {
+    const int64_t stamp = f.header.stamp_ns;
+    const uint32_t w = f.intrinsics.width, h = f.intrinsics.height;
     if (!odometry_.started()) {
       const auto start = truth_.find(stamp);
       if (start == truth_.end()) return;  // the ground truth gives the start pose
@@ -203,16 +231,17 @@ class Evaluator {
     input.baseline_m = f.baseline_m;
     input.T_body_cam = msg::to_eigen(f.T_body_cam);
     input.stamp_ns = stamp;
-    t0 = Clock::now();
+    const auto t0 = Clock::now();
     const vio::TrackingResult r = odometry_.process(input, interval);
     vio_ms_.ms.push_back(ms_since(t0));
     if (r.quality > 0)
       estimate_.push_back({stamp, msg::to_msg(r.T_world_body)});
     else
       ++untracked_;
-    ++processed_;
   }
 
+  std::string robot_, stereo_topic_;
+  bool vio_only_ = false;
   stereo_depth::StereoDepth::Config stereo_config_;
   vio::Vio::Config vio_config_;
   stereo_depth::StereoMatcher matcher_;
@@ -267,7 +296,7 @@ int run_perception_bench(const PerceptionBenchOptions& o) {
   sequence["bytes"] = std::filesystem::file_size(path, ec);
 
   cv::setNumThreads(1);  // the targets are per frame on one core
-  Evaluator evaluator;
+  Evaluator evaluator(o.robot, o.no_coast, o.vio_only);
   const auto played = evaluator.play(path);
   if (!temp_dir.empty()) std::filesystem::remove_all(temp_dir);
   if (!played) {
@@ -296,10 +325,12 @@ int run_perception_bench(const PerceptionBenchOptions& o) {
     if (out.contains("ate_m"))
       std::printf(
           "  odometry over %.1f m: ATE %.3f m (max %.3f), RPE over %.0f m %.2f %% (max %.2f "
-          "%%), %u resets\n",
+          "%%), %u resets (%.2f per 100 m), %llu frames coasted\n",
           out["distance_m"].get<double>(), out["ate_m"].get<double>(),
           out["ate_max_m"].get<double>(), o.rpe_segment_m, out["rpe_pct"].get<double>(),
-          out["rpe_max_pct"].get<double>(), out["vio_resets"].get<uint32_t>());
+          out["rpe_max_pct"].get<double>(), out["vio_resets"].get<uint32_t>(),
+          out["losses_per_100m"].get<double>(),
+          static_cast<unsigned long long>(out["vio_coasted_frames"].get<uint64_t>()));
   }
   return out.contains("ate_m") ? 0 : 1;
 }

@@ -1,5 +1,7 @@
 #include "components/vio/pose_estimator.hpp"
 
+#include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -11,7 +13,32 @@ struct PoseEstimator::Impl {
   std::vector<cv::Point3d> object, object_in;
   std::vector<cv::Point2d> image, image_in, projected;
   std::vector<int> inlier_index;
+  cv::Mat jacobian;
+
+  // σ²(JᵀJ)⁻¹ over the inliers (object_in/image_in hold them); identity·1e6 if singular
+  Eigen::Matrix<double, 6, 6> covariance(const cv::Mat& rvec, const cv::Mat& tvec,
+                                         const cv::Matx33d& k, double sigma_px);
 };
+
+Eigen::Matrix<double, 6, 6> PoseEstimator::Impl::covariance(const cv::Mat& rvec,
+                                                            const cv::Mat& tvec,
+                                                            const cv::Matx33d& k, double sigma_px) {
+  object_in.clear();
+  image_in.clear();
+  for (const int i : inlier_index) object_in.push_back(object[static_cast<size_t>(i)]);
+  cv::projectPoints(object_in, rvec, tvec, k, cv::noArray(), image_in, jacobian);
+  // columns: rvec (3), tvec (3), then the intrinsics
+  Eigen::Matrix<double, 6, 6> jtj = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int r = 0; r < jacobian.rows; ++r) {
+    const auto* row = jacobian.ptr<double>(r);
+    const Eigen::Map<const Eigen::Matrix<double, 6, 1>> j(row);
+    jtj.noalias() += j * j.transpose();
+  }
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(jtj);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0))
+    return Eigen::Matrix<double, 6, 6>::Identity() * 1e6;
+  return sigma_px * sigma_px * ldlt.solve(Eigen::Matrix<double, 6, 6>::Identity());
+}
 
 std::string_view to_string(PoseStatus status) {
   switch (status) {
@@ -100,6 +127,9 @@ void PoseEstimator::estimate(std::span<const Eigen::Vector3d> points_ref,
   }
   for (const int i : m.inlier_index) out.inlier[static_cast<size_t>(i)] = 1;
   out.inliers = m.inlier_index.size();
+  if (out.inliers >= 4)
+    out.covariance_rt =
+        m.covariance(rvec, tvec, k, std::max(out.rms_reprojection_px, c.min_pixel_sigma_px));
   cv::Matx33d rotation;
   cv::Rodrigues(rvec, rotation);
   Eigen::Matrix3d r;

@@ -31,6 +31,7 @@ struct PoseEstimatorConfig {
   PnpSolver solver = PnpSolver::kAp3p;  // minimal solver: AP3P or Gao's P3P
   bool refine = true;                   // LM on the inliers, then inliers again
   uint32_t min_inliers = 15;            // fewer: kTooFewInliers
+  double min_pixel_sigma_px = 0.3;      // floor of σ in the pose covariance
 };
 
 enum class PoseStatus : uint8_t { kOk, kTooFewPoints, kSolverFailed, kTooFewInliers };
@@ -42,6 +43,11 @@ struct PoseEstimate {
   std::vector<uint8_t> inlier;                                  // per match
   size_t inliers = 0;
   double rms_reprojection_px = 0;  // over the inliers
+  // Covariance of (rvec, tvec) of T_cam_ref (Rodrigues vector rad, m) when status is kOk:
+  // σ²(JᵀJ)⁻¹ with J the reprojection Jacobian over the inliers and σ the inliers' RMS
+  // reprojection error, at least min_pixel_sigma_px (a Gauss-Newton covariance, after the
+  // LM refinement; Hartley & Zisserman 2004, 5.2).
+  Eigen::Matrix<double, 6, 6> covariance_rt = Eigen::Matrix<double, 6, 6>::Identity();
 };
 
 class PoseEstimator {

@@ -16,6 +16,8 @@ std::string_view to_string(TrackingStatus status) {
       return "tracked";
     case TrackingStatus::kNewKeyframe:
       return "new keyframe";
+    case TrackingStatus::kCoasting:
+      return "coasting";
     case TrackingStatus::kLost:
       return "lost";
     case TrackingStatus::kNotInitialised:
@@ -46,9 +48,10 @@ struct StereoOdometry::Impl {
   explicit Impl(const StereoOdometryConfig& c)
       : config(c), tracker(c.features), stereo(c.stereo), pose(c.pose) {}
 
-  // Changes nothing but the tracker's previous image when the frame has too few stereo
-  // points (returns false).
-  bool make_keyframe(const StereoInput& frame, const Eigen::Isometry3d& T_world_body);
+  // Changes nothing but the tracker's previous image when the frame has fewer than
+  // min_points stereo points (returns false); 0: min_keyframe_points.
+  bool make_keyframe(const StereoInput& frame, const Eigen::Isometry3d& T_world_body,
+                     uint32_t min_points = 0);
   void predict_pixels(const StereoInput& frame, const Eigen::Isometry3d& T_world_body_pred);
   // The complementary roll/pitch correction: turns T_world_body (and the keyframe with
   // it, about the body's position) toward the accelerometer's vertical.
@@ -58,11 +61,27 @@ struct StereoOdometry::Impl {
   // The body's motion since the last frame, as predicted for KLT's starting guess.
   Eigen::Isometry3d predict_motion(int64_t dt_ns,
                                    const std::optional<Eigen::Quaterniond>& gyro) const;
+  // The coasted motion since the last frame: the gyro's rotation (else none) and the
+  // smoothed body velocity over dt.
+  Eigen::Isometry3d coast_motion(int64_t dt_ns,
+                                 const std::optional<Eigen::Quaterniond>& gyro) const;
   // Tracks the keyframe's points into this frame and solves its pose: kNone, else why not.
   LossReason track_pose(const StereoInput& frame, TrackingResult& result);
   // Takes a pose that passed the checks; a new keyframe when too few inliers are left.
   void accept(const StereoInput& frame, const Eigen::Isometry3d& T_prevbody_body_new,
               const Eigen::Isometry3d& T_world_new, int64_t dt_ns, TrackingResult& result);
+  // A failed frame within max_coast_s of the last tracked one: publishes the prediction and
+  // keeps the keyframe (or makes one at the prediction when too few tracks are left).
+  void coast(const StereoInput& frame, LossReason why, const Eigen::Isometry3d& T_world_pred,
+             TrackingResult& result);
+  // A loss: a new keyframe at T_world_restart if the image allows one.
+  void lose(const StereoInput& frame, LossReason why, const Eigen::Isometry3d& T_world_restart,
+            TrackingResult& result);
+  // Drops the keyframe and makes one from this frame at T_world_new if the image allows.
+  void restart(const StereoInput& frame, const Eigen::Isometry3d& T_world_new,
+               TrackingResult& result);
+  // The covariance of the last tracked frame grown over the time since it.
+  Covariance6 coasted_covariance(int64_t stamp_ns) const;
 
   StereoOdometryConfig config;
   FeatureTracker tracker;
@@ -77,8 +96,15 @@ struct StereoOdometry::Impl {
   Eigen::Isometry3d T_prevbody_body = Eigen::Isometry3d::Identity();
   int64_t last_stamp_ns = 0, last_dt_ns = 0;
   bool have_stamp = false, have_motion = false;
+  // body velocity averaged over about max_coast_s of tracked frames, from rest at a
+  // (re)start (coasting's; one frame pair's motion is too noisy to hold for many frames)
+  Eigen::Vector3d v_body_mps = Eigen::Vector3d::Zero();
   uint32_t resets = 0;
-  uint64_t keyframes = 0;
+  uint64_t keyframes = 0, coasted = 0;
+  // the last tracked (or initialised) frame: its stamp and covariance; the keyframe's
+  int64_t last_good_ns = 0;
+  bool have_good = false;
+  Covariance6 cov_good = Covariance6::Identity(), cov_kf = Covariance6::Identity();
 
   // scratch, reused every frame
   std::vector<Eigen::Vector2f> corners, from;
@@ -89,14 +115,16 @@ struct StereoOdometry::Impl {
 };
 
 bool StereoOdometry::Impl::make_keyframe(const StereoInput& frame,
-                                         const Eigen::Isometry3d& T_world_body_kf) {
+                                         const Eigen::Isometry3d& T_world_body_kf,
+                                         uint32_t min_points) {
   // the tracked inliers first (they are good corners), then fresh ones around them
   tracker.set_previous(frame.left);
   corners.assign(tracks.px.begin(), tracks.px.end());
   tracker.detect(tracks.px, corners);
   matched.clear();
   stereo.match(frame.left, frame.right, frame.intrinsics, frame.baseline_m, corners, matched);
-  if (matched.size() < std::max<size_t>(config.min_keyframe_points, 4)) return false;
+  if (min_points == 0) min_points = config.min_keyframe_points;
+  if (matched.size() < std::max<size_t>(min_points, 4)) return false;
   keyframe.id = ++keyframes;
   keyframe.stamp_ns = frame.stamp_ns;
   keyframe.T_world_cam = T_world_body_kf * frame.T_body_cam;
@@ -167,6 +195,14 @@ Eigen::Isometry3d StereoOdometry::Impl::predict_motion(
   return T_prev_pred;
 }
 
+Eigen::Isometry3d StereoOdometry::Impl::coast_motion(
+    int64_t dt_ns, const std::optional<Eigen::Quaterniond>& gyro) const {
+  Eigen::Isometry3d T_prev_pred = Eigen::Isometry3d::Identity();
+  if (have_motion) T_prev_pred.translation() = v_body_mps * (static_cast<double>(dt_ns) * 1e-9);
+  if (gyro) T_prev_pred.linear() = gyro->toRotationMatrix();
+  return T_prev_pred;
+}
+
 LossReason StereoOdometry::Impl::track_pose(const StereoInput& frame, TrackingResult& result) {
   // KLT from the previous image, then the pose against the keyframe
   tracker.track(frame.left, from, tracks.px, ok);
@@ -187,12 +223,24 @@ void StereoOdometry::Impl::accept(const StereoInput& frame,
                                   const Eigen::Isometry3d& T_prevbody_body_new,
                                   const Eigen::Isometry3d& T_world_new, int64_t dt_ns,
                                   TrackingResult& result) {
-  // accepted: keep the inliers, update the motion model
+  // accepted: keep the inliers, update the motion model and the covariance
   tracks.keep_if(estimate.inlier);
+  result.covariance = compose(keyframe.T_world_cam, cov_kf, estimate.T_cam_ref.inverse(),
+                              camera_in_reference(estimate.T_cam_ref, estimate.covariance_rt));
+  cov_good = result.covariance;
+  last_good_ns = frame.stamp_ns;
+  have_good = true;
   result.inliers = estimate.inliers;
   result.quality = static_cast<double>(estimate.inliers) / static_cast<double>(result.tracked);
   T_prevbody_body = T_prevbody_body_new;
   last_dt_ns = dt_ns;
+  if (dt_ns > 0) {
+    const double dt_s = static_cast<double>(dt_ns) * 1e-9;
+    const Eigen::Vector3d v = T_prevbody_body_new.translation() / dt_s;
+    // from rest after a (re)start: a stopped robot is the safer guess
+    const double a = dt_s / (std::max(config.max_coast_s, dt_s) + dt_s);
+    v_body_mps += a * (v - v_body_mps);
+  }
   have_motion = dt_ns > 0;
   T_world_body = T_world_new;
   result.T_world_body = T_world_new;
@@ -203,10 +251,63 @@ void StereoOdometry::Impl::accept(const StereoInput& frame,
   if (static_cast<double>(estimate.inliers) < needed) {
     // make_keyframe() changes nothing when it fails: the old keyframe stays tracked
     if (make_keyframe(frame, T_world_new)) {
+      cov_kf = result.covariance;
       result.status = TrackingStatus::kNewKeyframe;
       result.keyframe_points = keyframe.points_cam.size();
     }
   }
+}
+
+Covariance6 StereoOdometry::Impl::coasted_covariance(int64_t stamp_ns) const {
+  if (!have_good) return cov_good;
+  const double coast_s = static_cast<double>(stamp_ns - last_good_ns) * 1e-9;
+  return cov_good +
+         coast_growth(coast_s, config.coast_velocity_sigma_mps, config.coast_gyro_sigma_radps);
+}
+
+void StereoOdometry::Impl::coast(const StereoInput& frame, LossReason why,
+                                 const Eigen::Isometry3d& T_world_pred, TrackingResult& result) {
+  // the prediction stands in for the pose; the motion model and the keyframe stay, so the
+  // next frame is predicted at the same velocity and tried against the same keyframe
+  ++coasted;
+  T_world_body = T_world_pred;
+  result.status = TrackingStatus::kCoasting;
+  result.loss = why;
+  result.T_world_body = T_world_pred;
+  result.quality = config.coast_quality;
+  result.covariance = coasted_covariance(frame.stamp_ns);
+  // too few tracks to try again: a keyframe at the prediction, if this image makes one
+  if (why == LossReason::kTooFewTracks &&
+      make_keyframe(frame, T_world_pred, config.rescue_keyframe_min_points)) {
+    cov_kf = result.covariance;
+    result.keyframe_points = keyframe.points_cam.size();
+  }
+}
+
+void StereoOdometry::Impl::restart(const StereoInput& frame, const Eigen::Isometry3d& T_world_new,
+                                   TrackingResult& result) {
+  T_world_body = T_world_new;
+  tracks.clear();
+  have_motion = false;
+  v_body_mps.setZero();
+  result.covariance = coasted_covariance(frame.stamp_ns);
+  tracking = make_keyframe(frame, T_world_new);
+  result.keyframe_points = tracking ? keyframe.points_cam.size() : 0;
+  result.T_world_body = T_world_new;
+  if (!tracking) return;
+  cov_kf = cov_good = result.covariance;
+  last_good_ns = frame.stamp_ns;
+  have_good = true;
+}
+
+void StereoOdometry::Impl::lose(const StereoInput& frame, LossReason why,
+                                const Eigen::Isometry3d& T_world_restart, TrackingResult& result) {
+  ++resets;
+  result.loss = why;
+  // a new keyframe at once if this image allows it, else at a later frame
+  restart(frame, T_world_restart, result);
+  result.status = TrackingStatus::kLost;
+  result.quality = 0;
 }
 
 StereoOdometry::StereoOdometry(const StereoOdometryConfig& config)
@@ -221,7 +322,14 @@ void StereoOdometry::set_start(const Eigen::Isometry3d& T_world_body) {
   m.T_world_body = T_world_body;
   m.have_motion = false;
   m.have_stamp = false;
+  m.v_body_mps.setZero();
   m.tracks.clear();
+  const StereoOdometryConfig& c = m.config;
+  m.cov_good.setZero();
+  m.cov_good.diagonal() << Eigen::Vector3d::Constant(c.start_sigma_m * c.start_sigma_m),
+      Eigen::Vector3d::Constant(c.start_sigma_rad * c.start_sigma_rad);
+  m.cov_kf = m.cov_good;
+  m.have_good = false;
 }
 
 bool StereoOdometry::started() const {
@@ -232,6 +340,9 @@ uint32_t StereoOdometry::resets() const {
 }
 uint64_t StereoOdometry::keyframes() const {
   return impl_->keyframes;
+}
+uint64_t StereoOdometry::coasted_frames() const {
+  return impl_->coasted;
 }
 
 TrackingResult StereoOdometry::process(const StereoInput& frame, const ImuInterval& imu) {
@@ -249,48 +360,39 @@ TrackingResult StereoOdometry::process(const StereoInput& frame, const ImuInterv
   Eigen::Isometry3d T_world_turned = T_world_last;
   if (gyro) T_world_turned.linear() = T_world_last.linear() * gyro->toRotationMatrix();
 
-  const auto start_keyframe = [&](TrackingStatus on_success, TrackingStatus on_failure) {
-    m.T_world_body = T_world_turned;
-    m.tracks.clear();
-    m.have_motion = false;
-    m.tracking = m.make_keyframe(frame, m.T_world_body);
-    result.status = m.tracking ? on_success : on_failure;
-    result.keyframe_points = m.tracking ? m.keyframe.points_cam.size() : 0;
-    result.T_world_body = m.T_world_body;
-    return result;
-  };
-
   if (!m.tracking) {
-    TrackingResult r =
-        start_keyframe(TrackingStatus::kInitialised, TrackingStatus::kNotInitialised);
-    r.quality = m.tracking ? 1.0 : 0.0;
-    return r;
+    m.restart(frame, T_world_turned, result);
+    result.status = m.tracking ? TrackingStatus::kInitialised : TrackingStatus::kNotInitialised;
+    result.quality = m.tracking ? 1.0 : 0.0;
+    return result;
+  }
+  if (frame.intrinsics.width != m.keyframe.intrinsics.width ||
+      frame.intrinsics.height != m.keyframe.intrinsics.height) {
+    m.lose(frame, LossReason::kCameraChanged, T_world_turned, result);
+    return result;
   }
 
-  const auto lose = [&](LossReason reason) {
-    ++m.resets;
-    result.loss = reason;
-    // a new keyframe at once if this image allows it, else at a later frame
-    start_keyframe(TrackingStatus::kLost, TrackingStatus::kLost);
-    result.quality = 0;
+  const Eigen::Isometry3d T_world_pred = T_world_last * m.predict_motion(dt_ns, gyro);
+  m.predict_pixels(frame, T_world_pred);
+  LossReason failure = m.track_pose(frame, result);
+  Eigen::Isometry3d T_world_new = T_world_pred;
+  Eigen::Isometry3d T_prevbody_body = Eigen::Isometry3d::Identity();
+  if (failure == LossReason::kNone) {
+    const Eigen::Isometry3d T_world_cam = m.keyframe.T_world_cam * m.estimate.T_cam_ref.inverse();
+    T_world_new = T_world_cam * frame.T_body_cam.inverse();
+    T_prevbody_body = T_world_last.inverse() * T_world_new;
+    if (gyro && Eigen::Quaterniond(T_prevbody_body.rotation()).angularDistance(*gyro) >
+                    c.max_gyro_disagreement_deg * M_PI / 180.0)
+      failure = LossReason::kGyroDisagreement;
+  }
+  if (failure != LossReason::kNone) {
+    // coast while the last tracked frame is recent enough, else a loss
+    const auto max_coast_ns = static_cast<int64_t>(c.max_coast_s * 1e9);
+    if (frame.stamp_ns - m.last_good_ns > max_coast_ns)
+      m.lose(frame, failure, T_world_turned, result);
+    else
+      m.coast(frame, failure, T_world_last * m.coast_motion(dt_ns, gyro), result);
     return result;
-  };
-
-  if (frame.intrinsics.width != m.keyframe.intrinsics.width ||
-      frame.intrinsics.height != m.keyframe.intrinsics.height)
-    return lose(LossReason::kCameraChanged);
-
-  m.predict_pixels(frame, T_world_last * m.predict_motion(dt_ns, gyro));
-  if (const LossReason loss = m.track_pose(frame, result); loss != LossReason::kNone)
-    return lose(loss);
-  const Eigen::Isometry3d T_world_cam = m.keyframe.T_world_cam * m.estimate.T_cam_ref.inverse();
-  Eigen::Isometry3d T_world_new = T_world_cam * frame.T_body_cam.inverse();
-  const Eigen::Isometry3d T_prevbody_body = T_world_last.inverse() * T_world_new;
-  if (gyro) {
-    const double disagreement =
-        Eigen::Quaterniond(T_prevbody_body.rotation()).angularDistance(*gyro);
-    if (disagreement > c.max_gyro_disagreement_deg * M_PI / 180.0)
-      return lose(LossReason::kGyroDisagreement);
   }
 
   if (imu.mean_specific_force_mps2 && dt_ns > 0)

@@ -14,10 +14,18 @@
 //              does not build up from keyframe to keyframe
 //   new keyframe: when the inliers fall below keyframe_min_inliers (or a share of the
 //              keyframe's points); the tracked inliers are kept as corners of the new one
-//   lost:      too few tracks, no PnP solution, too few inliers, a PnP rotation that
-//              disagrees with the gyro, or a new image size: the frame is reported lost (quality 0)
-//              and a new keyframe is made at the last good pose turned by the gyro; if the image
-//              cannot make one (black, textureless), each later frame tries again.
+//   coasting:  a frame that fails (too few tracks, no PnP solution, too few inliers, a PnP
+//              rotation that disagrees with the gyro) publishes the prediction (gyro rotation,
+//              constant-velocity translation) with quality coast_quality and keeps the
+//              keyframe: the next frame tries it again. With too few tracks left to retry,
+//              a new keyframe is made at the predicted pose when the image allows one
+//              (rescue_keyframe_min_points, fewer than a keyframe otherwise needs).
+//   lost:      still failing max_coast_s after the last tracked frame, or a new image size:
+//              the frame is reported lost (quality 0) and a new keyframe is made at the last
+//              (predicted) pose turned by the gyro; if the image cannot make one (black,
+//              textureless), each later frame tries again.
+//   covariance: each frame's pose covariance (pose_covariance.hpp): the PnP estimate's on
+//              top of the keyframe's, accumulated across keyframes, grown while coasting.
 //
 // A plain library (no runtime): the `vio` component feeds it checked frames. OpenCV stays
 // in the .cpp files. Not thread safe. Its own buffers keep their capacity; OpenCV
@@ -31,6 +39,7 @@
 
 #include "components/vio/feature_tracker.hpp"
 #include "components/vio/gray_image.hpp"
+#include "components/vio/pose_covariance.hpp"
 #include "components/vio/pose_estimator.hpp"
 #include "components/vio/sparse_stereo.hpp"
 #include "interfaces/geometry.hpp"
@@ -44,6 +53,9 @@ struct StereoOdometryConfig {
   uint32_t keyframe_min_inliers = 80;      // fewer PnP inliers: the frame becomes a keyframe
   double keyframe_min_inlier_ratio = 0.6;  // or fewer than this share of the keyframe's points
   uint32_t min_keyframe_points = 25;       // a keyframe needs this many triangulated corners
+  // or this many when made while coasting with too few tracks left (a weak keyframe rather
+  // than a loss: near or plain faces leave few corners)
+  uint32_t rescue_keyframe_min_points = 15;
   bool gyro_prior = true;                  // rotation prior from the gyro (else constant velocity)
   double max_gyro_disagreement_deg = 5.0;  // PnP vs gyro rotation since the last frame
   // roll and pitch pulled toward the accelerometer's vertical with this time constant
@@ -51,6 +63,12 @@ struct StereoOdometryConfig {
   // centripetal part ω×v, is within gravity_gate_mps2 of g
   double gravity_time_constant_s = 2.0;
   double gravity_gate_mps2 = 0.3;
+  // coasting through failed frames (0: every failed frame is a loss)
+  double max_coast_s = 0.5;               // a failure this long after the last tracked frame: lost
+  double coast_quality = 0.5;             // tracking quality published while coasting, (0, 1]
+  double coast_velocity_sigma_mps = 0.2;  // constant-velocity error, for the covariance
+  double coast_gyro_sigma_radps = 0.01;   // gyro rate error, for the covariance
+  double start_sigma_m = 0.001, start_sigma_rad = 0.001;  // the start pose's uncertainty
 };
 
 // What the IMU says about the interval since the previous frame (body frame).
@@ -72,6 +90,7 @@ enum class TrackingStatus : uint8_t {
   kInitialised,     // first keyframe (or the one after a loss) made from this frame
   kTracked,         // pose from the current keyframe
   kNewKeyframe,     // tracked, and this frame became the new keyframe
+  kCoasting,        // not tracked at this frame: the predicted pose, quality coast_quality
   kLost,            // tracking lost at this frame (a reset); pose is the last good one
   kNotInitialised,  // no keyframe could be made yet (too few stereo points)
 };
@@ -91,8 +110,12 @@ std::string_view to_string(LossReason reason);
 
 struct TrackingResult {
   TrackingStatus status = TrackingStatus::kNotInitialised;
+  // kLost: why; kCoasting: why this frame failed (not a loss)
   LossReason loss = LossReason::kNone;
   Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+  // position (m², world axes) then rotation (rad², small world-frame angles); see
+  // pose_covariance.hpp
+  Covariance6 covariance = Covariance6::Identity();
   double quality = 0;  // PnP inliers / tracks; 1 at a fresh keyframe; 0 when lost
   size_t tracked = 0, inliers = 0, keyframe_points = 0;
 };
@@ -111,8 +134,9 @@ class StereoOdometry {
 
   TrackingResult process(const StereoInput& frame, const ImuInterval& imu);
 
-  uint32_t resets() const;     // losses so far
-  uint64_t keyframes() const;  // keyframes made so far
+  uint32_t resets() const;          // losses so far
+  uint64_t keyframes() const;       // keyframes made so far
+  uint64_t coasted_frames() const;  // frames published as kCoasting so far
 
  private:
   struct Impl;

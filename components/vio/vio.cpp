@@ -48,10 +48,18 @@ Vio::Config Vio::read_config(ParamReader& p) {
   p.optional("keyframe_min_inliers", o.keyframe_min_inliers, {4, 5000});
   p.optional("keyframe_min_inlier_ratio", o.keyframe_min_inlier_ratio, {0, 1});
   p.optional("min_keyframe_points", o.min_keyframe_points, {4, 5000});
+  p.optional("rescue_keyframe_min_points", o.rescue_keyframe_min_points, {4, 5000});
   p.optional("gyro_prior", o.gyro_prior);
   p.optional("max_gyro_disagreement_deg", o.max_gyro_disagreement_deg, {0.1, 180});
   p.optional("gravity_time_constant_s", o.gravity_time_constant_s, {0, 1e6});
   p.optional("gravity_gate_mps2", o.gravity_gate_mps2, {0, 10});
+  p.optional("max_coast_s", o.max_coast_s, {0, 10});
+  p.optional("coast_quality", o.coast_quality, {0.01, 1});
+  p.optional("coast_velocity_sigma_mps", o.coast_velocity_sigma_mps, {0, 100});
+  p.optional("coast_gyro_sigma_radps", o.coast_gyro_sigma_radps, {0, 10});
+  p.optional("start_sigma_m", o.start_sigma_m, {1e-6, 100});
+  p.optional("start_sigma_rad", o.start_sigma_rad, {1e-6, 10});
+  p.optional("min_pixel_sigma_px", o.pose.min_pixel_sigma_px, {0.01, 10});
   p.optional("gravity_align", c.gravity_align);
   p.optional("gravity_window_s", c.gravity_window_s, {0.001, 60});
   p.optional("imu_max_gap_s", c.imu_max_gap_s, {0.001, 10});
@@ -187,7 +195,10 @@ void Vio::publish(const msg::StereoFrame& frame, const TrackingResult& result) {
   odom.T_world_body = msg::to_msg(result.T_world_body);
   odom.tracking_quality = result.quality;
   odom.tracking_resets = odometry_->resets();
-  odom.pose_covariance = {};  // not estimated
+  for (size_t r = 0; r < 6; ++r)  // row-major; x y z then the small rotation angles
+    for (size_t col = 0; col < 6; ++col)
+      odom.pose_covariance[6 * r + col] =
+          result.covariance(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(col));
   odom.linear_velocity_mps = {};
   odom.angular_velocity_radps = {};
   const bool valid = result.quality > 0;
@@ -221,6 +232,7 @@ VioStats Vio::stats() const {
   VioStats s = stats_;
   s.resets = odometry_->resets();
   s.keyframes = odometry_->keyframes();
+  s.coasted_frames = odometry_->coasted_frames();
   if (timed_frames_ > 0) {
     s.mean_frame_ms = frame_ms_sum_ / static_cast<double>(timed_frames_);
     const size_t n = std::min<size_t>(timed_frames_, recent_frame_ms_.size());
@@ -243,12 +255,12 @@ void Vio::on_deactivate() {
                  std::string(to_string(static_cast<LossReason>(i))) + " " +
                  std::to_string(s.losses[i]);
   SCANCREW_LOG_INFO(
-      "%s: %llu frames, %llu odometry, %llu keyframes, %u tracking losses, %llu frames skipped "
-      "(bad input), %.2f ms/frame mean, %.2f max%s",
+      "%s: %llu frames, %llu odometry, %llu keyframes, %u tracking losses, %llu frames coasted, "
+      "%llu frames skipped (bad input), %.2f ms/frame mean, %.2f max%s",
       qualified_name().c_str(), static_cast<unsigned long long>(s.frames),
       static_cast<unsigned long long>(s.published), static_cast<unsigned long long>(s.keyframes),
-      s.resets, static_cast<unsigned long long>(rejected), s.mean_frame_ms, s.max_frame_ms,
-      reasons.c_str());
+      s.resets, static_cast<unsigned long long>(s.coasted_frames),
+      static_cast<unsigned long long>(rejected), s.mean_frame_ms, s.max_frame_ms, reasons.c_str());
 }
 
 void Vio::summarize(RunSummary& into) const {
@@ -256,6 +268,7 @@ void Vio::summarize(RunSummary& into) const {
   RunSummary::Odometry& o = into.odometry[robot_id()];
   o.frames = s.frames;
   o.losses = s.resets;
+  o.coasted_frames = s.coasted_frames;
   for (size_t i = 0; i < s.losses.size(); ++i)
     if (s.losses[i] > 0)
       o.losses_by_reason[std::string(to_string(static_cast<LossReason>(i)))] = s.losses[i];

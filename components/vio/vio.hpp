@@ -13,9 +13,11 @@
 //
 // Input that cannot be used (empty or mismatched images, intrinsics that do not fit the
 // image, NaN/inf IMU samples, stamps going back) is skipped, counted per reason and
-// logged once per reason. Lost tracking publishes one Odometry with tracking_quality 0
-// and tracking_resets incremented, logs the event, and re-initialises at the last good
-// pose; frames that cannot re-initialise (no texture) publish quality 0 until one can.
+// logged once per reason. A frame that fails to track is coasted through (the predicted
+// pose, tracking_quality coast_quality) for up to max_coast_s; past that, lost tracking
+// publishes one Odometry with tracking_quality 0 and tracking_resets incremented, logs the
+// event, and re-initialises at the last pose; frames that cannot re-initialise (no texture)
+// publish quality 0 until one can. pose_covariance: stereo_odometry.hpp, pose_covariance.hpp.
 //
 // Thread safety: both callbacks are in the component's (mutually exclusive) default group.
 // stats() is for tests and the end-of-run log, read while the executor is not running.
@@ -48,6 +50,7 @@ struct VioStats {
   std::array<uint32_t, kLossReasonCount> losses{};
   uint64_t keyframes = 0;
   uint64_t untracked_frames = 0;  // published with quality 0 (the loss frames included)
+  uint64_t coasted_frames = 0;    // published from the prediction (kCoasting), not losses
   double mean_frame_ms = 0, p50_frame_ms = 0, max_frame_ms = 0;  // processing time per frame
 
   uint64_t rejected_count(InputError e) const { return rejected[static_cast<size_t>(e)]; }

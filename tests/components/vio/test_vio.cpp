@@ -244,10 +244,11 @@ TEST(Vio, TracksAMultirotorInTheParkingLotWithinTheDriftBound) {
   EXPECT_LE(e.ate_rmse_m, 0.08);
 }
 
-TEST(Vio, BlackFramesLoseTrackingWhichIsReportedAndReinitialised) {
-  // 0.5 s of black frames from t = 3 s (the 31st to 35th frames)
-  VioRun r =
-      run(launch_text({.duration_s = 7.0, .tamper = "{black_from_s: 3.0, black_to_s: 3.5}"}));
+TEST(Vio, WithoutCoastingBlackFramesLoseTrackingWhichIsReportedAndReinitialised) {
+  // 0.5 s of black frames from t = 3 s (the 31st to 35th frames); each failed frame a loss
+  VioRun r = run(launch_text({.duration_s = 7.0,
+                              .tamper = "{black_from_s: 3.0, black_to_s: 3.5}",
+                              .vio = "{max_coast_s: 0}"}));
   ASSERT_NE(r.vio, nullptr);
   ASSERT_NE(r.collector, nullptr);
   const VioStats s = r.vio->stats();
