@@ -126,15 +126,30 @@ void merge_section(const YAML::Node& profile, const std::string& key, YAML::Node
   }
 }
 
-// Refuses a spec whose reconstruction map or team size does not fit its architecture.
+size_t team_size(const std::vector<TeamPart>& parts) {
+  size_t n = 0;
+  for (const TeamPart& p : parts) n += p.robots;
+  return n;
+}
+
+// Refuses a spec whose reconstruction map or team size does not fit its architecture, or
+// whose team lists a kind twice or none of a kind.
 Result<void, std::string> check_spec(const MissionSpec& s) {
   if (s.reconstruction_voxel_m > 0 && s.arch == Architecture::kDistributed)
     return make_unexpected(
         "reconstruction_voxel_m: a distributed team has no map that all the depth reaches; "
         "single or centralized only");
-  if (s.robots == 0 || (s.arch == Architecture::kSingle && s.robots != 1))
-    return make_unexpected("architecture " + to_string(s.arch) + " with " +
-                           std::to_string(s.robots) +
+  for (size_t i = 0; i < s.team.size(); ++i) {
+    const std::string kind = robot::to_string(s.team[i].kind);
+    if (s.team[i].robots == 0)
+      return make_unexpected("team: " + kind + ": 0 robots; a kind in the team has 1 or more");
+    for (size_t j = 0; j < i; ++j)
+      if (s.team[j].kind == s.team[i].kind)
+        return make_unexpected("team: " + kind + " is listed twice");
+  }
+  const size_t n = team_size(team_parts(s));
+  if (n == 0 || (s.arch == Architecture::kSingle && n != 1))
+    return make_unexpected("architecture " + to_string(s.arch) + " with " + std::to_string(n) +
                            " robots: single takes 1, the others 1 or more");
   return {};
 }
@@ -180,6 +195,14 @@ YAML::Node run_section(const MissionSpec& s) {
   // one robot alone has no ground station: its map, ISEs and plans run on board
   if (s.arch == Architecture::kSingle) run["station"] = false;
   return run;
+}
+
+// "3 multirotor" or "2 ground + 3 multirotor"
+std::string team_text(const std::vector<TeamPart>& parts) {
+  std::string t;
+  for (const TeamPart& p : parts)
+    t += (t.empty() ? "" : " + ") + std::to_string(p.robots) + " " + robot::to_string(p.kind);
+  return t;
 }
 
 // The launch file's entry of robot i (from 0), at the scene's start pose.
@@ -234,6 +257,21 @@ Result<E, std::string> named(const YAML::Node& v, const EnumNames<E, N>& names,
                          "' is not allowed; allowed: " + joined_names(names));
 }
 
+// Reads the mission file's `team: {<kind>: <count>, ...}` into spec.team, in its order.
+Result<void, std::string> read_team(MissionSpec& spec, const YAML::Node& v,
+                                    const std::string& where) {
+  if (!v.IsMap() || v.size() == 0)
+    return make_unexpected(where +
+                           ": a mapping of robot kind -> count, e.g. {ground: 2, "
+                           "multirotor: 3}");
+  for (const auto& kv : v) {
+    auto kind = named(kv.first, robot::kRobotKindNames, where);
+    if (!kind) return make_unexpected(kind.error());
+    spec.team.push_back({.kind = *kind, .robots = kv.second.as<size_t>()});
+  }
+  return {};
+}
+
 // Reads the mission file's `key: v` into spec; what is wrong (after `where`) if it cannot.
 Result<void, std::string> read_mission_key(MissionSpec& spec, const std::string& key,
                                            const YAML::Node& v, const std::string& where) {
@@ -246,6 +284,8 @@ Result<void, std::string> read_mission_key(MissionSpec& spec, const std::string&
       spec.kind = *kind;
     } else if (key == "robots") {
       spec.robots = v.as<size_t>();
+    } else if (key == "team") {
+      return read_team(spec, v, where);
     } else if (key == "architecture") {
       auto arch = named(v, kArchitectureNames, where);
       if (!arch) return make_unexpected(arch.error());
@@ -258,13 +298,40 @@ Result<void, std::string> read_mission_key(MissionSpec& spec, const std::string&
       spec.reconstruction_voxel_m = v.as<double>();
     } else {
       return make_unexpected(where +
-                             ": unknown key; allowed: scene, kind, robots, architecture, "
-                             "duration_s, seed, reconstruction_voxel_m");
+                             ": unknown key; allowed: scene, kind, robots (or team), "
+                             "architecture, duration_s, seed, reconstruction_voxel_m");
     }
   } catch (const YAML::Exception&) {
     return make_unexpected(where + ": not a valid value");
   }
   return {};
+}
+
+}  // namespace
+
+std::vector<TeamPart> team_parts(const MissionSpec& spec) {
+  if (!spec.team.empty()) return spec.team;
+  return {TeamPart{.kind = spec.kind, .robots = spec.robots}};
+}
+
+namespace {
+
+// The launch file's robots: each part's from the first of the scene's starts for its kind.
+Result<YAML::Node, std::string> robot_entries(const std::vector<TeamPart>& parts,
+                                              const sim::SceneSpec& scene,
+                                              const std::string& scene_path) {
+  YAML::Node robots(YAML::NodeType::Sequence);
+  size_t i = 0;
+  for (const TeamPart& p : parts) {
+    const auto& starts =
+        p.kind == robot::RobotKind::kGround ? scene.starts.ground : scene.starts.multirotor;
+    if (starts.size() < p.robots)
+      return make_unexpected(scene_path + ": starts." + robot::to_string(p.kind) + " lists " +
+                             std::to_string(starts.size()) + " start(s), the team has " +
+                             std::to_string(p.robots) + " " + robot::to_string(p.kind) + " robots");
+    for (size_t j = 0; j < p.robots; ++j) robots.push_back(robot_entry(i++, p.kind, starts[j]));
+  }
+  return robots;
 }
 
 }  // namespace
@@ -277,15 +344,13 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
     for (const auto& e : scene.error()) all += (all.empty() ? "" : "; ") + e;
     return make_unexpected(all);
   }
-  const std::string kind = robot::to_string(s.kind);
-  const auto& starts =
-      s.kind == robot::RobotKind::kGround ? scene->starts.ground : scene->starts.multirotor;
-  if (starts.size() < s.robots)
-    return make_unexpected(s.scene_path + ": starts." + kind + " lists " +
-                           std::to_string(starts.size()) + " start(s), the team has " +
-                           std::to_string(s.robots) + " robots");
+  const std::vector<TeamPart> parts = team_parts(s);
+  auto robots = robot_entries(parts, *scene, s.scene_path);
+  if (!robots) return make_unexpected(robots.error());
+  const std::string profile_name =
+      parts.size() > 1 ? "mixed" : std::string(robot::to_string(parts.front().kind));
   const std::string profile_path =
-      s.profile_path.empty() ? s.profile_root + "/" + kind + ".yaml" : s.profile_path;
+      s.profile_path.empty() ? s.profile_root + "/" + profile_name + ".yaml" : s.profile_path;
   auto profile = read_profile(profile_path);
   if (!profile) return make_unexpected(profile.error());
 
@@ -293,15 +358,15 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   root["clock"] = "sim";
   root["executor"]["type"] = "step";
   root["run"] = run_section(s);
-  for (size_t i = 0; i < s.robots; ++i) root["robots"].push_back(robot_entry(i, s.kind, starts[i]));
+  root["robots"] = *robots;
   root["remap"]["pose"] = "pose_gt";  // every stage's pose: the simulator's ground truth
-  for (ComponentPlan& c : architecture_graph(s, *scene, s.robots > 1))
+  for (ComponentPlan& c : architecture_graph(s, *scene, team_size(parts) > 1))
     root["components"].push_back(component_entry(c, s, *profile));
   YAML::Emitter out;
   out << root;
-  return "# composed by scancrew from scene " + s.scene_path + ", " + std::to_string(s.robots) +
-         " " + kind + " robot(s), " + to_string(s.arch) + ", profile " + profile_path + "\n" +
-         out.c_str() + "\n";
+  return "# composed by scancrew from scene " + s.scene_path + ", " + team_text(parts) +
+         " robot(s), " + to_string(s.arch) + ", profile " + profile_path + "\n" + out.c_str() +
+         "\n";
 }
 
 Result<std::string, std::string> launch_file_text(const std::string& path, size_t robots) {
@@ -314,8 +379,8 @@ Result<std::string, std::string> launch_file_text(const std::string& path, size_
     return make_unexpected(path + ": a mission file holds `mission:` and nothing else");
   if (!m.IsMap())
     return make_unexpected(yaml_location(path, m) +
-                           ": mission: a mapping of scene, kind, robots, architecture, "
-                           "duration_s, seed, reconstruction_voxel_m");
+                           ": mission: a mapping of scene, kind, robots (or team), "
+                           "architecture, duration_s, seed, reconstruction_voxel_m");
   MissionSpec spec;
   for (const auto& kv : m) {
     const std::string key = kv.first.Scalar();
@@ -323,9 +388,21 @@ Result<std::string, std::string> launch_file_text(const std::string& path, size_
     if (auto read = read_mission_key(spec, key, kv.second, where); !read)
       return make_unexpected(read.error());
   }
-  for (const char* required : {"scene", "kind", "robots", "architecture"})
+  const bool team = m["team"].IsDefined();
+  if (team && (m["kind"].IsDefined() || m["robots"].IsDefined()))
+    return make_unexpected(path +
+                           ": mission.team gives the robots of each kind: it replaces kind and "
+                           "robots (give one or the other)");
+  const std::vector<const char*> required_keys =
+      team ? std::vector<const char*>{"scene", "architecture"}
+           : std::vector<const char*>{"scene", "kind", "robots", "architecture"};
+  for (const char* required : required_keys)
     if (!m[required].IsDefined())
       return make_unexpected(path + ": mission." + required + " is required");
+  if (robots > 0 && team)
+    return make_unexpected(path +
+                           ": --robots: the mission's team (mission.team) gives each kind's "
+                           "count; change it there");
   if (robots > 0) spec.robots = robots;  // --robots N
   if (!(spec.duration_s > 0 && std::isfinite(spec.duration_s)))
     return make_unexpected(path + ": mission.duration_s must be > 0");

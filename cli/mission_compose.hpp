@@ -9,12 +9,22 @@
 // nothing else: no per-scene parameter. Teams of more than one robot blank their teammates
 // out of the depth (depth_mask).
 //
+// A mixed team (MissionSpec::team: ground robots and multirotors) takes its robots kind by
+// kind in the team's order (ids 1, 2, ... and namespaces r1, r2, ... running on across the
+// kinds), each kind's from the first of the scene's starts for that kind, and the profile
+// launch_cfg/profiles/mixed.yaml: the per-kind keys (ground_*, multirotor_*) of both
+// profiles, and for the keys the kinds share (the map's voxel, truncation and depth range,
+// the depth mask's margin, d_v, the monitor's density) the multirotors' values, with the
+// ground robots' camera and viewpoint ranges set to that map's range (docs/missions.md,
+// "Mixed teams").
+//
 // compose_mission() returns the launch file's text (YAML), or what is wrong (a team size or a
 // reconstruction map the architecture does not take, a scene that cannot be read or lists
 // fewer starts than robots, a profile that cannot be read).
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "cli/choices.hpp"
 #include "core/result.hpp"
@@ -22,10 +32,19 @@
 
 namespace scancrew::cli {
 
+// The robots of one kind in a team.
+struct TeamPart {
+  robot::RobotKind kind = robot::RobotKind::kGround;
+  size_t robots = 0;
+};
+
 struct MissionSpec {
   std::string scene_path;
   robot::RobotKind kind = robot::RobotKind::kGround;
   size_t robots = 1;
+  // a team of one or more kinds, in this order (a mission file's `team:`); empty: `robots`
+  // robots of `kind`
+  std::vector<TeamPart> team;
   Architecture arch = Architecture::kDistributed;
   double duration_s = 600;
   int seed = 1;  // the simulator's and the low-level planners' seed
@@ -33,10 +52,15 @@ struct MissionSpec {
   // mission's result, scored at the planning map's e_max; nothing plans on it. Single and
   // centralized only (a distributed team has no map that all the depth reaches).
   double reconstruction_voxel_m = 0;
-  std::string profile_path;  // "": launch_cfg/profiles/<kind>.yaml under profile_root
+  // "": launch_cfg/profiles/<kind>.yaml under profile_root (mixed.yaml for a team of more
+  // than one kind)
+  std::string profile_path;
   std::string profile_root = "launch_cfg/profiles";
   std::string compute_time;  // "": the launch's default (charged for a mission)
 };
+
+// The team a spec describes: its `team`, or its `robots` robots of `kind`.
+std::vector<TeamPart> team_parts(const MissionSpec& spec);
 
 Result<std::string, std::string> compose_mission(const MissionSpec& spec);
 
@@ -47,8 +71,13 @@ Result<std::string, std::string> compose_mission(const MissionSpec& spec);
 // scene, kind, robots and architecture are required; duration_s (600), seed (1) and
 // reconstruction_voxel_m (none) are not; any other key, and a kind or an architecture that
 // its table (kRobotKindNames, kArchitectureNames) does not name, is an error naming it.
+// A mixed team replaces kind and robots by `team`, the robots of each kind in order:
+//   mission: {scene: launch_cfg/scenes/powerplant.yaml, team: {ground: 2, multirotor: 3},
+//             architecture: centralized}
+// (team with kind or robots: an error; each count >= 1).
 // `robots` > 0 (scancrew run --robots N) composes a mission file with N robots instead of its
-// own count.
+// own count; a mission file with `team` refuses it (which kind would grow is the file's to
+// say).
 // scancrew run and graph read launch files through it.
 Result<std::string, std::string> launch_file_text(const std::string& path, size_t robots = 0);
 

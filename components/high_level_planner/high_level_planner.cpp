@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <utility>
 
 #include "components/low_level_planner/planner_params.hpp"
 #include "core/motion/motion_planner.hpp"
@@ -42,15 +44,17 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 }
 
 // One plan's roadmap distances: every viewpoint is a target (the planner enters a cluster
-// at one of them), each starting point gets one roadmap_distances() row. Points are
-// matched exactly: the planner passes on the positions it was given.
+// at one of them), each (robot type, starting point) gets one roadmap_distances() row from
+// that type's roadmap. Points are matched exactly: the planner passes on the positions it
+// was given.
 struct RoadmapMemo {
   using Key = std::array<double, 3>;
   static Key key(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
   std::vector<msg::Waypoint> targets;
   std::map<Key, size_t> target_index;
-  std::map<Key, double> yaw;                // of the viewpoints and the robots
-  std::map<Key, std::vector<double>> rows;  // empty: the straight line from there
+  std::map<Key, double> yaw;  // of the viewpoints and the robots
+  // per (robot type bit, starting point); empty: the straight line from there
+  std::map<std::pair<uint32_t, Key>, std::vector<double>> rows;
 };
 
 }  // namespace
@@ -86,28 +90,8 @@ Result<void, std::string> HighLevelPlanner::on_configure() {
         "algorithm tsga is the centralized planner: set per_robot: false (dist_tsga is the "
         "per-robot one)");
   if (team().empty()) return make_unexpected("the launch file has no robots to plan for");
-  if (config_.inter_cluster_distance == InterClusterDistance::kRoadmap) {
-    const robot::RobotKind kind = team().front().kind;
-    for (const TeamMember& t : team())
-      if (t.kind != kind)
-        return make_unexpected(
-            "inter_cluster_distance: roadmap needs a team of one robot type: the travel "
-            "distance (PlannerOptions::travel_distance) does not know which robot an arc is "
-            "for, and a " +
-            std::string(robot::to_string(kind)) + " robot's roadmap is not a " +
-            robot::to_string(t.kind) + "'s (robot " + std::to_string(t.id) +
-            "); use euclidean for a mixed team");
-    motion::PlannerConfig pc = config_.roadmap;
-    pc.robot_kind = kind;
-    auto planner = motion::MotionPlanner::create(pc);
-    if (!planner) return make_unexpected(planner.error());
-    roadmap_ = std::make_unique<motion::MotionPlanner>(std::move(planner).value());
-    create_subscription<msg::MapUpdate>("map", {.depth = 1}, [this](Sample<msg::MapUpdate>&& s) {
-      if (s->map == nullptr) return;
-      roadmap_->update_map(s->map, s->header.stamp_ns);
-      have_map_ = true;
-    });
-  }
+  if (config_.inter_cluster_distance == InterClusterDistance::kRoadmap)
+    if (auto roadmaps = configure_roadmaps(); !roadmaps) return roadmaps;
   for (size_t i = 0; i < team().size(); ++i) {
     const TeamMember& t = team()[i];
     Member m;
@@ -147,6 +131,27 @@ Result<void, std::string> HighLevelPlanner::on_configure() {
       "clusters", {.depth = 1}, [this](Sample<msg::ViewpointClusters>&& s) { on_clusters(*s); });
   create_subscription<msg::IseSet>("ises", {.depth = 1},
                                    [this](Sample<msg::IseSet>&& s) { ises_ = *s; });
+  return {};
+}
+
+// One roadmap MotionPlanner per robot kind in the team (keyed by its type bit), all
+// following the `map` topic.
+Result<void, std::string> HighLevelPlanner::configure_roadmaps() {
+  for (const TeamMember& t : team()) {
+    const bool multirotor = t.kind == robot::RobotKind::kMultirotor;
+    const uint32_t bit = multirotor ? kMultirotorBit : kGroundBit;
+    if (roadmaps_.contains(bit)) continue;
+    motion::PlannerConfig pc = config_.roadmap;
+    pc.robot_kind = t.kind;
+    auto planner = motion::MotionPlanner::create(pc);
+    if (!planner) return make_unexpected(planner.error());
+    roadmaps_.emplace(bit, std::make_unique<motion::MotionPlanner>(std::move(planner).value()));
+  }
+  create_subscription<msg::MapUpdate>("map", {.depth = 1}, [this](Sample<msg::MapUpdate>&& s) {
+    if (s->map == nullptr) return;
+    for (auto& [bit, roadmap] : roadmaps_) roadmap->update_map(s->map, s->header.stamp_ns);
+    have_map_ = true;
+  });
   return {};
 }
 
@@ -258,7 +263,7 @@ PlannerOptions HighLevelPlanner::plan_options() {
     intra_paths_.new_generation();
     options.intra_paths = &intra_paths_;
   }
-  if (!roadmap_) return options;
+  if (roadmaps_.empty()) return options;
   if (!have_map_) {
     warn_once("roadmap_no_map",
               "inter_cluster_distance: roadmap: no map on `map` yet; d(τ_kl) is the straight "
@@ -274,14 +279,18 @@ PlannerOptions HighLevelPlanner::plan_options() {
         memo->targets.push_back(v.pose);
     }
   for (const Member& m : members_) memo->yaw[RoadmapMemo::key(m.position)] = m.yaw_rad;
-  options.travel_distance = [this, memo](const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
-    auto row = memo->rows.find(RoadmapMemo::key(from));
+  options.travel_distance = [this, memo](uint32_t type_bit, const Eigen::Vector3d& from,
+                                         const Eigen::Vector3d& to) {
+    const auto roadmap = roadmaps_.find(type_bit);
+    if (roadmap == roadmaps_.end()) return std::numeric_limits<double>::infinity();
+    const auto row_key = std::make_pair(type_bit, RoadmapMemo::key(from));
+    auto row = memo->rows.find(row_key);
     if (row == memo->rows.end()) {
       msg::Waypoint w;
       w.position = vec(from);
       const auto yaw = memo->yaw.find(RoadmapMemo::key(from));
       w.yaw_rad = yaw != memo->yaw.end() ? yaw->second : 0.0;
-      motion::RoadmapDistances d = roadmap_->roadmap_distances(w, memo->targets);
+      motion::RoadmapDistances d = roadmap->second->roadmap_distances(w, memo->targets);
       ++stats_.roadmap_queries;
       stats_.roadmap_ms += d.ms;
       if (d.status != motion::PlanStatus::kOk) {
@@ -294,7 +303,7 @@ PlannerOptions HighLevelPlanner::plan_options() {
                       "; the straight line is used from such points");
         d.distances_m.clear();
       }
-      row = memo->rows.emplace(RoadmapMemo::key(from), std::move(d.distances_m)).first;
+      row = memo->rows.emplace(row_key, std::move(d.distances_m)).first;
     }
     const auto target = memo->target_index.find(RoadmapMemo::key(to));
     if (row->second.empty() || target == memo->target_index.end()) return (to - from).norm();
@@ -419,7 +428,7 @@ void HighLevelPlanner::on_deactivate() {
         "%s: intra-cluster paths: %llu kept, %llu found (%.1f ms in all)", qualified_name().c_str(),
         static_cast<unsigned long long>(stats_.intra_paths.hits),
         static_cast<unsigned long long>(stats_.intra_paths.misses), stats_.intra_paths.solve_ms);
-  if (roadmap_)
+  if (!roadmaps_.empty())
     SCANCREW_LOG_INFO(
         "%s: roadmap distances: %llu queries (%.1f ms mean), %llu starting points measured by "
         "the straight line",

@@ -46,14 +46,16 @@
 //   roadmap    the low-level planner's path length, as in the thesis: a MotionPlanner of
 //              its own (LazyPRM* roadmap, core/motion/motion_planner.hpp) follows
 //              the `map` topic (msg::MapUpdate; remap it to the robot's or the team's map)
-//              and, per plan, one roadmap_distances() call per distinct starting point gives
+//              and, per plan, one roadmap_distances() call per kind and starting point gives
 //              its distances to every viewpoint (memoised for the plan's maxATSP solves;
 //              unreachable: +inf, the arc's f is 0). Until the first map, and from a point
 //              whose body collides, the straight line (logged once). The planner's keys are
 //              the low-level planner's (read_planner_config: one YAML block serves both);
-//              its robot type is the team's. The hook does not know which robot an arc is
-//              for, so a team that mixes ground robots and multirotors is refused at
-//              configuration.
+//              there is one planner per robot kind in the team (robot_type ignored), and
+//              each robot's arcs are measured on its kind's roadmap (the hook gets the
+//              robot's type bit; the memo keys rows by type and starting point): in a team
+//              that mixes ground robots and multirotors a wall is a detour for the one and
+//              not for the other.
 //
 // Parameters: algorithm, inter_cluster_distance (euclidean | roadmap),
 // `<type>_lambda_tc_per_m` and `<type>_lambda_ic_per_m` for ground and multirotor,
@@ -121,7 +123,7 @@ class HighLevelPlanner final : public Component {
     bool keep_intra_paths = true;
     double idle_teammate_s = 0;  // dist_tsga: plan without a teammate idle this long; 0: never
     // inter_cluster_distance: roadmap: the low-level planner's keys (robot_type ignored:
-    // the team's type decides)
+    // each kind in the team gets a planner of its own kind)
     motion::PlannerConfig roadmap;
   };
   static Config read_config(ParamReader& p);
@@ -156,6 +158,8 @@ class HighLevelPlanner final : public Component {
   };
 
   Result<void, std::string> on_configure() override;
+  // inter_cluster_distance: roadmap: roadmaps_ and their `map` subscription
+  Result<void, std::string> configure_roadmaps();
   void on_deactivate() override;
   void on_clusters(const msg::ViewpointClusters& clusters);
   void on_robot_state(size_t member, const msg::RobotState& state);
@@ -193,7 +197,8 @@ class HighLevelPlanner final : public Component {
   IntraPathCache intra_paths_;
   Stats stats_;
   double ms_sum_ = 0;
-  std::unique_ptr<motion::MotionPlanner> roadmap_;  // inter_cluster_distance: roadmap
+  // inter_cluster_distance: roadmap: one planner per robot kind in the team, by type bit
+  std::map<uint32_t, std::unique_ptr<motion::MotionPlanner>> roadmaps_;
   bool have_map_ = false;
 };
 

@@ -78,8 +78,8 @@ class Allocation {
   // f of the arc into cluster v from a node leaving at `exit`, for robot r.
   double utility(const PlanRobot& r, const Eigen::Vector3d& exit, size_t v) const {
     const Eigen::Vector3d& entry = paths_[v].viewpoints.front();
-    const double d_kl =
-        options_.travel_distance ? options_.travel_distance(exit, entry) : (entry - exit).norm();
+    const double d_kl = options_.travel_distance ? options_.travel_distance(r.type_bit, exit, entry)
+                                                 : (entry - exit).norm();
     // a NaN or infinite travel distance (no path) makes the arc worthless, not the plan bad
     if (!std::isfinite(d_kl)) return 0.0;
     return clusters_[v].gain *
@@ -117,8 +117,8 @@ class Allocation {
     for (size_t v : order) {
       const IntraPath& path = paths_[v];
       const Eigen::Vector3d& entry = path.viewpoints.front();
-      const double d =
-          options_.travel_distance ? options_.travel_distance(exit, entry) : (entry - exit).norm();
+      const double d = options_.travel_distance ? options_.travel_distance(r.type_bit, exit, entry)
+                                                : (entry - exit).norm();
       if (!std::isfinite(d)) break;
       way_m += d;
       u += clusters_[v].gain *

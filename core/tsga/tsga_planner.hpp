@@ -12,8 +12,8 @@
 //     first viewpoint q_l and left at its last q_m (the thesis recomputes τ_lm per entry point; one
 //     path per cluster keeps the matrix static, so one maxATSP solve per insertion);
 //   d(τ_kl): the straight-line distance from U's exit to V's entry, or a caller's distance
-//     (PlannerOptions::travel_distance, e.g. the low-level planner's roadmap), d(τ_lm): the intra
-//     path's length;
+//     (PlannerOptions::travel_distance, per robot type, e.g. the low-level planner's roadmap
+//     for that type), d(τ_lm): the intra path's length;
 //   f_UV = g(V)·exp(−λ_tc·d(τ_kl) − λ_ic·d(τ_lm)), λ per robot (heterogeneous teams).
 // TSGA: clusters ranked by their distance to the nearest robot that can reach them
 // (ascending); each goes to the robot k maximising maxATSP(U^k ∪ V) − p^k (the thesis;
@@ -108,10 +108,13 @@ struct PlannerOptions {
   int insertion_iterations = 20;  // ILS kicks per insertion evaluation
   int final_iterations = 300;     // ILS kicks for each robot's final path
   uint64_t seed = 1;
-  // d(τ_kl) from a cluster's exit to the next one's entry: null = straight line; else e.g.
-  // the low-level planner's roadmap distance. Non-finite = unreachable (the arc's f is 0).
-  // Called O(n²) times per maxATSP solve: memoise an expensive one.
-  std::function<double(const Eigen::Vector3d& from, const Eigen::Vector3d& to)> travel_distance;
+  // d(τ_kl) from a cluster's exit to the next one's entry for a robot of type `type_bit`
+  // (PlanRobot::type_bit: a ground robot's way is not a multirotor's): null = straight line;
+  // else e.g. the low-level planner's roadmap distance for that type. Non-finite =
+  // unreachable (the arc's f is 0). Called O(n²) times per maxATSP solve: memoise an
+  // expensive one.
+  std::function<double(uint32_t type_bit, const Eigen::Vector3d& from, const Eigen::Vector3d& to)>
+      travel_distance;
   // intra-cluster paths kept across calls (null: found again at every call); the caller
   // owns it and starts a generation per planning call
   IntraPathCache* intra_paths = nullptr;

@@ -64,7 +64,9 @@ TEST(SceneStarts, TheShippedScenesListTheirMissionsStarts) {
   EXPECT_NEAR(lot->starts.ground[0].yaw_rad, M_PI / 6, 1e-12);
   ASSERT_EQ(plant->starts.multirotor.size(), 5u);
   EXPECT_DOUBLE_EQ(plant->starts.multirotor[0].position_m.z, 2.0);
-  EXPECT_TRUE(plant->starts.ground.empty());
+  // the mixed team's two ground robots, on the floor
+  ASSERT_EQ(plant->starts.ground.size(), 2u);
+  EXPECT_DOUBLE_EQ(plant->starts.ground[0].position_m.z, 0.0);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <set>
 
 #include "core/tsga/tsga_planner.hpp"
 
@@ -202,7 +203,7 @@ TEST(Tsga, ReallocationFillsAnIdleRobot) {
 
 TEST(Tsga, ACallersTravelDistanceReplacesTheStraightLine) {
   // a wall along x = 10: crossing it costs a 30 m detour; unreachable beyond x = 18
-  const auto detour = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const auto detour = [](uint32_t, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     if (a.x() > 18 || b.x() > 18) return std::numeric_limits<double>::infinity();
     const double straight = (a - b).norm();
     return (a.x() < 10) != (b.x() < 10) ? straight + 30 : straight;
@@ -224,7 +225,7 @@ TEST(Tsga, ACallersTravelDistanceReplacesTheStraightLine) {
     double intra = 0;
     for (size_t j = 1; j < c.viewpoints.size(); ++j)
       intra += (r.viewpoints[at + j] - r.viewpoints[at + j - 1]).norm();
-    const double d = detour(exit, entry);
+    const double d = detour(1, exit, entry);
     const double f = std::isinf(d) ? 0.0 : c.gain * std::exp(-0.5 * d - 0.01 * intra);
     EXPECT_NEAR(r.utilities[i], f, 1e-12) << "cluster " << c.id;
     for (size_t j = 0; j < c.viewpoints.size(); ++j) {
@@ -234,6 +235,26 @@ TEST(Tsga, ACallersTravelDistanceReplacesTheStraightLine) {
     at += c.viewpoints.size();
     exit = r.viewpoints[at - 1];
   }
+}
+
+TEST(Tsga, TheTravelDistanceIsAskedForTheRobotsType) {
+  // robot 1 (type bit 2) reaches nothing by the caller's distance, robot 2 (bit 1) the
+  // straight line: every cluster goes to robot 2
+  PlannerOptions options;
+  std::set<uint32_t> asked;
+  options.travel_distance = [&asked](uint32_t type_bit, const Eigen::Vector3d& a,
+                                     const Eigen::Vector3d& b) {
+    asked.insert(type_bit);
+    return type_bit == 2 ? std::numeric_limits<double>::infinity() : (a - b).norm();
+  };
+  std::vector<PlanRobot> robots = team(2);
+  robots[0].type_bit = 2;
+  const std::vector<PlanCluster> clusters = random_clusters(8, 5);
+  auto plan = plan_tsga(robots, clusters, options);
+  ASSERT_TRUE(plan) << plan.error();
+  EXPECT_EQ(asked, (std::set<uint32_t>{1, 2}));
+  EXPECT_TRUE(plan->robots[0].clusters.empty());
+  EXPECT_EQ(plan->robots[1].clusters.size(), clusters.size());
 }
 
 TEST(Tsga, EdgeCasesHaveDefinedResults) {
