@@ -14,6 +14,7 @@
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
 #include "tests/components/constant_driver.hpp"
+#include "tests/components/vio/odometry_collector.hpp"
 
 namespace scancrew::vio {
 namespace {
@@ -77,25 +78,7 @@ class Tamper final : public Component {
   int frame_count_ = 0, imu_count_ = 0;
 };
 
-// Keeps the odometry and the ground truth.
-class Collector final : public Component {
- public:
-  static constexpr std::string_view kDescription = "test: keeps odom and pose_gt";
-  struct Config {};
-  static Config read_config(ParamReader& /*p*/) { return {}; }
-  Collector(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
-
-  std::vector<msg::Odometry> odom, truth;
-
- private:
-  Result<void, std::string> on_configure() override {
-    create_subscription<msg::Odometry>("odom", {.depth = 8},
-                                       [this](Sample<msg::Odometry>&& s) { odom.push_back(*s); });
-    create_subscription<msg::Odometry>("pose_gt", {.depth = 8},
-                                       [this](Sample<msg::Odometry>&& s) { truth.push_back(*s); });
-    return {};
-  }
-};
+using testing::Collector;
 
 SCANCREW_REGISTER_COMPONENT(Tamper, "test_vio_tamper")
 SCANCREW_REGISTER_COMPONENT(Collector, "test_vio_collector")

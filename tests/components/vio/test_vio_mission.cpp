@@ -13,6 +13,7 @@
 #include "eval/odometry_error.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
+#include "tests/components/vio/odometry_collector.hpp"
 
 namespace scancrew::vio {
 namespace {
@@ -59,33 +60,12 @@ class ScriptDriver final : public Component {
   uint64_t ticks_ = 0;
 };
 
-// Keeps the odometry and the ground truth.
-class MissionCollector final : public Component {
- public:
-  static constexpr std::string_view kDescription = "test: keeps odom and pose_gt";
-  struct Config {};
-  static Config read_config(ParamReader& /*p*/) { return {}; }
-  MissionCollector(ComponentContext c, Config /*config*/) : Component(std::move(c)) {}
-
-  std::vector<msg::Odometry> odom, truth;
-
- private:
-  Result<void, std::string> on_configure() override {
-    create_subscription<msg::Odometry>("odom", {.depth = 8},
-                                       [this](Sample<msg::Odometry>&& s) { odom.push_back(*s); });
-    create_subscription<msg::Odometry>("pose_gt", {.depth = 8},
-                                       [this](Sample<msg::Odometry>&& s) { truth.push_back(*s); });
-    return {};
-  }
-};
-
 SCANCREW_REGISTER_COMPONENT(ScriptDriver, "test_vio_script_driver")
-SCANCREW_REGISTER_COMPONENT(MissionCollector, "test_vio_mission_collector")
 
 struct MissionRun {
   std::unique_ptr<Launch> launch;
   Vio* vio = nullptr;
-  MissionCollector* collector = nullptr;
+  testing::Collector* collector = nullptr;
 };
 
 // One ground robot in the parking lot, camera at 10 Hz, IMU at 100 Hz, as in
@@ -115,7 +95,7 @@ components:
   - {name: vio, type: vio, remap: {stereo: stereo_out, imu: imu_out}}
   - {name: driver, type: test_vio_script_driver, params: {script: )" +
                            script + R"(}}
-  - {name: collector, type: test_vio_mission_collector}
+  - {name: collector, type: test_vio_collector}
 )";
   MissionRun r;
   auto launch = Launch::from_string(text, "vio_mission_test.yaml");
@@ -124,7 +104,7 @@ components:
   r.launch = std::move(launch).value();
   r.launch->run();
   r.vio = r.launch->find_component<Vio>();
-  r.collector = r.launch->find_component<MissionCollector>();
+  r.collector = r.launch->find_component<testing::Collector>();
   return r;
 }
 
