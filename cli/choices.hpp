@@ -1,9 +1,10 @@
 #pragma once
 
 // The choices the commands of cli/ name in files, options and tables, as enums with their
-// names (core/enum_names.hpp): a team's architecture and how a mission run ended. Parsed
-// with value_of (the errors list joined_names), printed with name_of / to_string, so that
-// launch files, run directories, CSV, JSON and Markdown spell them as before.
+// names (core/enum_names.hpp): a team's architecture, its depth and pose sources and how a
+// mission run ended. Parsed with value_of (the errors list joined_names), printed with
+// name_of / to_string, so that launch files, run directories, CSV, JSON and Markdown spell
+// them as before.
 
 #include <cstdint>
 #include <string>
@@ -46,6 +47,29 @@ inline constexpr EnumNames<Architecture, 3> kArchitectureNames = {
 
 inline std::string to_string(Architecture arch) {
   return std::string(name_of(kArchitectureNames, arch));
+}
+
+// Where a composed mission's depth comes from (mission file `depth:`): the simulator's
+// rendered, noisy depth (rendered), or SGBM matching on each robot's stereo pair, the
+// `stereo_depth` component (stereo), as on the thesis's real robots (Table 5.4).
+enum class DepthSource : uint8_t { kRendered, kStereo };
+
+inline constexpr EnumNames<DepthSource, 2> kDepthSourceNames = {
+    {{DepthSource::kRendered, "rendered"}, {DepthSource::kStereo, "stereo"}}};
+
+inline std::string to_string(DepthSource d) {
+  return std::string(name_of(kDepthSourceNames, d));
+}
+
+// Where a composed mission's robot poses come from (mission file `pose:`): the simulator's
+// ground truth (truth), or each robot's visual-inertial odometry, the `vio` component (vio).
+enum class PoseSource : uint8_t { kTruth, kVio };
+
+inline constexpr EnumNames<PoseSource, 2> kPoseSourceNames = {
+    {{PoseSource::kTruth, "truth"}, {PoseSource::kVio, "vio"}}};
+
+inline std::string to_string(PoseSource p) {
+  return std::string(name_of(kPoseSourceNames, p));
 }
 
 // How a mission run ended (metrics.json's stop_reason): the mission monitor's complete or

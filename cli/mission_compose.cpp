@@ -49,8 +49,13 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   ComponentPlan sim{.name = "team_simulator", .type = "team_simulator", .per_robot = false};
   sim.params["scene"] = s.scene_path;
   sim.params["seed"] = s.seed;
-  sim.params["publish_stereo"] = false;
+  const bool stereo = s.depth == DepthSource::kStereo;
+  const bool vio = s.pose == PoseSource::kVio;
+  sim.params["publish_stereo"] = stereo || vio;
+  if (stereo) sim.params["publish_depth"] = false;  // the depth is SGBM's
   g.push_back(sim);
+  if (vio) g.push_back({.name = "vio", .type = "vio"});
+  if (stereo) g.push_back({.name = "stereo_depth", .type = "stereo_depth"});
   if (masked) g.push_back({.name = "depth_mask", .type = "depth_mask"});
 
   ComponentPlan mapper{.name = "tsdf_mapper", .type = "tsdf_mapper", .per_robot = !centralized};
@@ -162,25 +167,31 @@ Result<YAML::Node, std::string> read_profile(const std::string& profile_path) {
   auto profile = parse_yaml(*profile_text, profile_path);
   if (!profile) return make_unexpected(profile.error());
   if (!profile->IsMap()) return make_unexpected(profile_path + ": a profile is a mapping");
-  // every section names a component of some architecture's graph, or <name>_<architecture>
-  static constexpr std::array<std::string_view, 8> kNames = {
-      "team_simulator",     "depth_mask",        "tsdf_mapper",  "ise_extractor",
-      "high_level_planner", "low_level_planner", "path_tracker", "mission_monitor"};
+  // every section names a component of some mission's graph, or <name>_<architecture>,
+  // <name>_stereo or <name>_vio
+  static constexpr std::array<std::string_view, 10> kNames = {
+      "team_simulator",     "vio",
+      "stereo_depth",       "depth_mask",
+      "tsdf_mapper",        "ise_extractor",
+      "high_level_planner", "low_level_planner",
+      "path_tracker",       "mission_monitor"};
   for (const auto& kv : *profile) {
     const std::string key = kv.first.Scalar();
     bool known = false;
     for (const std::string_view n : kNames) {
-      known = known || key == n;
+      const std::string name(n);
+      known = known || key == name || key == name + "_stereo" || key == name + "_vio";
       for (const auto& [arch, arch_name] : kArchitectureNames)
-        known = known || key == std::string(n) + "_" + std::string(arch_name);
+        known = known || key == name + "_" + std::string(arch_name);
     }
     if (!known || !kv.second.IsMap())
       return make_unexpected(yaml_location(profile_path, kv.first) + ": '" + key +
                              "' is no component of a mission (a mapping of its parameters); "
-                             "allowed: team_simulator, depth_mask, tsdf_mapper, "
-                             "ise_extractor, high_level_planner, low_level_planner, "
-                             "path_tracker, mission_monitor, each optionally with _single, "
-                             "_centralized or _distributed");
+                             "allowed: team_simulator, vio, stereo_depth, depth_mask, "
+                             "tsdf_mapper, ise_extractor, high_level_planner, "
+                             "low_level_planner, path_tracker, mission_monitor, each "
+                             "optionally with _single, _centralized, _distributed, _stereo "
+                             "or _vio");
   }
   return *profile;
 }
@@ -236,6 +247,8 @@ YAML::Node component_entry(ComponentPlan& c, const MissionSpec& s, YAML::Node& p
     } catch (const YAML::Exception&) {  // not a number: the mapper refuses it by name
     }
   }
+  if (s.depth == DepthSource::kStereo) merge_section(profile, section + "_stereo", c.params);
+  if (s.pose == PoseSource::kVio) merge_section(profile, section + "_vio", c.params);
   merge_section(profile, section, c.params);
   merge_section(profile, section + "_" + to_string(s.arch), c.params);
   YAML::Node n(YAML::NodeType::Map);
@@ -296,10 +309,19 @@ Result<void, std::string> read_mission_key(MissionSpec& spec, const std::string&
       spec.seed = v.as<int>();
     } else if (key == "reconstruction_voxel_m") {
       spec.reconstruction_voxel_m = v.as<double>();
+    } else if (key == "depth") {
+      auto depth = named(v, kDepthSourceNames, where);
+      if (!depth) return make_unexpected(depth.error());
+      spec.depth = *depth;
+    } else if (key == "pose") {
+      auto pose = named(v, kPoseSourceNames, where);
+      if (!pose) return make_unexpected(pose.error());
+      spec.pose = *pose;
     } else {
       return make_unexpected(where +
                              ": unknown key; allowed: scene, kind, robots (or team), "
-                             "architecture, duration_s, seed, reconstruction_voxel_m");
+                             "architecture, duration_s, seed, reconstruction_voxel_m, depth, "
+                             "pose");
     }
   } catch (const YAML::Exception&) {
     return make_unexpected(where + ": not a valid value");
@@ -359,14 +381,15 @@ Result<std::string, std::string> compose_mission(const MissionSpec& s) {
   root["executor"]["type"] = "step";
   root["run"] = run_section(s);
   root["robots"] = *robots;
-  root["remap"]["pose"] = "pose_gt";  // every stage's pose: the simulator's ground truth
+  // every stage's pose: the simulator's ground truth, or the robot's own odometry
+  root["remap"]["pose"] = s.pose == PoseSource::kVio ? "odom" : "pose_gt";
   for (ComponentPlan& c : architecture_graph(s, *scene, team_size(parts) > 1))
     root["components"].push_back(component_entry(c, s, *profile));
   YAML::Emitter out;
   out << root;
   return "# composed by scancrew from scene " + s.scene_path + ", " + team_text(parts) +
-         " robot(s), " + to_string(s.arch) + ", profile " + profile_path + "\n" + out.c_str() +
-         "\n";
+         " robot(s), " + to_string(s.arch) + ", depth " + to_string(s.depth) + ", pose " +
+         to_string(s.pose) + ", profile " + profile_path + "\n" + out.c_str() + "\n";
 }
 
 Result<std::string, std::string> launch_file_text(const std::string& path, size_t robots) {
@@ -380,7 +403,8 @@ Result<std::string, std::string> launch_file_text(const std::string& path, size_
   if (!m.IsMap())
     return make_unexpected(yaml_location(path, m) +
                            ": mission: a mapping of scene, kind, robots (or team), "
-                           "architecture, duration_s, seed, reconstruction_voxel_m");
+                           "architecture, duration_s, seed, reconstruction_voxel_m, depth, "
+                           "pose");
   MissionSpec spec;
   for (const auto& kv : m) {
     const std::string key = kv.first.Scalar();

@@ -18,6 +18,14 @@
 // ground robots' camera and viewpoint ranges set to that map's range (docs/missions.md,
 // "Mixed teams").
 //
+// The sensor chain: `depth: stereo` adds a stereo_depth component per robot (SGBM on the
+// simulator's stereo pair, which then publishes no rendered depth), `pose: vio` a vio
+// component per robot, with every stage reading its `odom` for `pose`. Their parameters are
+// the profile's `stereo_depth` and `vio` sections, and a profile section `<name>_stereo` or
+// `<name>_vio` sets what a component takes only with that chain (the odometry's camera rate
+// and turn rates). Section precedence: the graph's own keys, then <name>_stereo and
+// <name>_vio, then <name>, then <name>_<architecture>.
+//
 // compose_mission() returns the launch file's text (YAML), or what is wrong (a team size or a
 // reconstruction map the architecture does not take, a scene that cannot be read or lists
 // fewer starts than robots, a profile that cannot be read).
@@ -57,6 +65,10 @@ struct MissionSpec {
   std::string profile_path;
   std::string profile_root = "launch_cfg/profiles";
   std::string compute_time;  // "": the launch's default (charged for a mission)
+  // the depth and pose sources: rendered depth and true pose, or the chain of the thesis's
+  // real robots (Table 5.4): SGBM (stereo_depth) and each robot's odometry (vio)
+  DepthSource depth = DepthSource::kRendered;
+  PoseSource pose = PoseSource::kTruth;
 };
 
 // The team a spec describes: its `team`, or its `robots` robots of `kind`.
@@ -68,10 +80,11 @@ Result<std::string, std::string> compose_mission(const MissionSpec& spec);
 // mission file (a mapping with the one key `mission`), the composed mission:
 //   mission: {scene: launch_cfg/scenes/parking_lot.yaml, kind: ground, robots: 2,
 //             architecture: distributed, duration_s: 900, seed: 1}
-// scene, kind, robots and architecture are required; duration_s (600), seed (1) and
-// reconstruction_voxel_m (none) are not; any other key, and a kind or an architecture that
-// its table (kRobotKindNames, kArchitectureNames) does not name, is an error naming it.
-// A mixed team replaces kind and robots by `team`, the robots of each kind in order:
+// scene, kind, robots and architecture are required; duration_s (600), seed (1),
+// reconstruction_voxel_m (none), depth (rendered | stereo) and pose (truth | vio) are not; any
+// other key, and a kind or an architecture that its table (kRobotKindNames, kArchitectureNames)
+// does not name, is an error naming it. A mixed team replaces kind and robots by `team`, the robots
+// of each kind in order:
 //   mission: {scene: launch_cfg/scenes/powerplant.yaml, team: {ground: 2, multirotor: 3},
 //             architecture: centralized}
 // (team with kind or robots: an error; each count >= 1).
