@@ -10,8 +10,9 @@
 namespace scancrew::cli {
 
 void add_run_commands(CLI::App& app, CommandTable& table);  // run, sim, robot, station
+void add_rerun_command(CLI::App& app, CommandTable& table);
 void add_sweep_command(CLI::App& app, CommandTable& table);
-void add_graph_commands(CLI::App& app, CommandTable& table);  // components, graph
+void add_graph_commands(CLI::App& app, CommandTable& table);  // components, graph, help
 void add_render_command(CLI::App& app, CommandTable& table);
 void add_groundtruth_command(CLI::App& app, CommandTable& table);
 void add_scenegen_command(CLI::App& app, CommandTable& table);

@@ -3,8 +3,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/build_info.hpp"
 #include "cli/command_table.hpp"
 #include "cli/commands.hpp"
+#include "cli/run_record.hpp"
 #ifdef SCANCREW_WITH_BENCH
 #include "bench/commands.hpp"
 #endif
@@ -13,12 +15,16 @@ int main(int argc, char** argv) {
   namespace cli = scancrew::cli;
   CLI::App app{"scancrew: multi-robot 3D reconstruction (runtime, simulator, planners)"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", cli::version_text,
+                       "print the version, git commit and library versions, and exit");
+  cli::set_command_line(argc, argv);  // run.json keeps it
   bool parse_only = false;
   app.add_flag("--parse-only", parse_only,
                "check the command line and stop (exit 0 when it parses; runs nothing): "
                "scripts/check_results_commands.sh checks the docs' commands with it");
   cli::CommandTable table;
   cli::add_run_commands(app, table);
+  cli::add_rerun_command(app, table);
   cli::add_sweep_command(app, table);
   cli::add_graph_commands(app, table);
   cli::add_render_command(app, table);

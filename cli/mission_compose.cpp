@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string_view>
 #include <vector>
 
@@ -39,6 +40,28 @@ YAML::Node flow_vector(const msg::Vec3& v) {
   return n;
 }
 
+// The scene's path in a composed file: absolute, as the file may be written anywhere (bench
+// explore's run directories) and a relative path in a launch file is relative to its directory.
+std::string composed_scene_path(const MissionSpec& s) {
+  return std::filesystem::absolute(s.scene_path).lexically_normal().string();
+}
+
+// The simulator and each robot's sensor chain (odometry, stereo depth, teammates masked).
+void add_sensor_chain(const MissionSpec& s, bool masked, std::vector<ComponentPlan>& g) {
+  ComponentPlan sim{.name = "team_simulator", .type = "team_simulator", .per_robot = false};
+  sim.params["scene"] = composed_scene_path(s);
+  sim.params["seed"] = s.seed;
+  const bool stereo = s.depth == DepthSource::kStereo;
+  const bool vio = s.pose == PoseSource::kVio;
+  sim.params["publish_stereo"] = stereo || vio;
+  if (stereo) sim.params["publish_depth"] = false;  // the depth is SGBM's
+  sim.params["publish_imu"] = vio;                  // only the odometry reads it
+  g.push_back(sim);
+  if (vio) g.push_back({.name = "vio", .type = "vio"});
+  if (stereo) g.push_back({.name = "stereo_depth", .type = "stereo_depth"});
+  if (masked) g.push_back({.name = "depth_mask", .type = "depth_mask"});
+}
+
 // The graph of an architecture, before the profile's parameters.
 std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::SceneSpec& scene,
                                               bool masked) {
@@ -46,17 +69,7 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
   const bool single = s.arch == Architecture::kSingle;
   const bool distributed = s.arch == Architecture::kDistributed;
   std::vector<ComponentPlan> g;
-  ComponentPlan sim{.name = "team_simulator", .type = "team_simulator", .per_robot = false};
-  sim.params["scene"] = s.scene_path;
-  sim.params["seed"] = s.seed;
-  const bool stereo = s.depth == DepthSource::kStereo;
-  const bool vio = s.pose == PoseSource::kVio;
-  sim.params["publish_stereo"] = stereo || vio;
-  if (stereo) sim.params["publish_depth"] = false;  // the depth is SGBM's
-  g.push_back(sim);
-  if (vio) g.push_back({.name = "vio", .type = "vio"});
-  if (stereo) g.push_back({.name = "stereo_depth", .type = "stereo_depth"});
-  if (masked) g.push_back({.name = "depth_mask", .type = "depth_mask"});
+  add_sensor_chain(s, masked, g);
 
   ComponentPlan mapper{.name = "tsdf_mapper", .type = "tsdf_mapper", .per_robot = !centralized};
   mapper.params["mode"] = to_string(s.arch);
@@ -72,15 +85,14 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
     // the reconstruction: the same depth in a finer map whose mesh is the result (the
     // profile's tsdf_mapper section fills the rest). Its truncation is 5 of its voxels: at the
     // multirotors' 8 m range 3 sigma of the depth noise is 0.47 m (docs/missions.md, "A finer
-    // reconstruction map"). Nothing reads its map topic, renamed so no planner takes it.
+    // reconstruction map"). Nothing reads its map: it publishes none, only its mesh is kept.
     ComponentPlan recon{.name = "recon", .type = "tsdf_mapper", .per_robot = !centralized};
     recon.params["mode"] = to_string(s.arch);
     if (masked) recon.params["depth_topic"] = "depth_masked";
     recon.params["voxel_m"] = number(s.reconstruction_voxel_m);
     recon.params["truncation_m"] = number(5 * s.reconstruction_voxel_m);
-    recon.params["snapshot_every"] = 100000;  // no snapshot until the final mesh
+    recon.params["publish_map"] = false;
     recon.params["mesh_path"] = "{out}/mesh_recon.ply";
-    recon.remap["map"] = centralized ? "/map_recon" : "map_recon";
     g.push_back(recon);
   }
   // the ISE criterion's bound: the scene's bounds are the region to reconstruct. Outdoors
@@ -112,10 +124,12 @@ std::vector<ComponentPlan> architecture_graph(const MissionSpec& s, const sim::S
     low.remap["plan"] = "/plan";
   }
   g.push_back(low);
-  g.push_back({.name = "path_tracker", .type = "path_tracker"});
+  ComponentPlan tracker{.name = "path_tracker", .type = "path_tracker"};
+  tracker.params["publish_state"] = false;  // nothing in a mission reads tracker_state
+  g.push_back(tracker);
 
   ComponentPlan monitor{.name = "mission_monitor", .type = "mission_monitor", .per_robot = false};
-  monitor.params["scene"] = s.scene_path;
+  monitor.params["scene"] = composed_scene_path(s);
   if (centralized) monitor.params["maps"] = "shared";
   g.push_back(monitor);
   return g;
@@ -433,6 +447,11 @@ Result<std::string, std::string> launch_file_text(const std::string& path, size_
   if (m["reconstruction_voxel_m"].IsDefined() &&
       !(spec.reconstruction_voxel_m > 0 && std::isfinite(spec.reconstruction_voxel_m)))
     return make_unexpected(path + ": mission.reconstruction_voxel_m must be > 0");
+  // the mission file's paths are relative to its directory; its profiles are in the
+  // directory beside it, profiles/ (launch_cfg/missions/ and launch_cfg/profiles/)
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  spec.scene_path = (dir / spec.scene_path).lexically_normal().string();
+  spec.profile_root = (dir / ".." / "profiles").lexically_normal().string();
   auto composed = compose_mission(spec);
   if (!composed) return make_unexpected(path + ": " + composed.error());
   return composed;

@@ -60,8 +60,10 @@ struct MissionSpec {
   // mission's result, scored at the planning map's e_max; nothing plans on it. Single and
   // centralized only (a distributed team has no map that all the depth reaches).
   double reconstruction_voxel_m = 0;
-  // "": launch_cfg/profiles/<kind>.yaml under profile_root (mixed.yaml for a team of more
-  // than one kind)
+  // "": <kind>.yaml under profile_root (mixed.yaml for a team of more than one kind). A
+  // mission file's profile_root is the directory profiles/ beside its own directory (for
+  // launch_cfg/missions/x.yaml: launch_cfg/profiles), whatever the working directory;
+  // bench explore's, launch_cfg/profiles under the working directory.
   std::string profile_path;
   std::string profile_root = "launch_cfg/profiles";
   std::string compute_time;  // "": the launch's default (charged for a mission)
@@ -78,14 +80,15 @@ Result<std::string, std::string> compose_mission(const MissionSpec& spec);
 
 // The text of the launch file at `path`, for Launch::from_string: as written, or, for a
 // mission file (a mapping with the one key `mission`), the composed mission:
-//   mission: {scene: launch_cfg/scenes/parking_lot.yaml, kind: ground, robots: 2,
+//   mission: {scene: ../scenes/parking_lot.yaml, kind: ground, robots: 2,
 //             architecture: distributed, duration_s: 900, seed: 1}
+// (scene relative to the mission file's directory; the composed file names it absolute)
 // scene, kind, robots and architecture are required; duration_s (600), seed (1),
 // reconstruction_voxel_m (none), depth (rendered | stereo) and pose (truth | vio) are not; any
 // other key, and a kind or an architecture that its table (kRobotKindNames, kArchitectureNames)
 // does not name, is an error naming it. A mixed team replaces kind and robots by `team`, the robots
 // of each kind in order:
-//   mission: {scene: launch_cfg/scenes/powerplant.yaml, team: {ground: 2, multirotor: 3},
+//   mission: {scene: ../scenes/powerplant.yaml, team: {ground: 2, multirotor: 3},
 //             architecture: centralized}
 // (team with kind or robots: an error; each count >= 1).
 // `robots` > 0 (scancrew run --robots N) composes a mission file with N robots instead of its

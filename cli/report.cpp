@@ -35,13 +35,65 @@ void print_graph(std::FILE* out, Launch& launch) {
   if (report.errors.empty() && report.warnings.empty()) std::fprintf(out, "graph check: ok\n");
 }
 
-void print_topic_stats(std::FILE* out, const Graph& graph) {
+namespace {
+
+// A DOT quoted string: backslashes and quotes escaped, control characters dropped.
+std::string dot_quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) out += c;
+  }
+  return out + "\"";
+}
+
+// A two-line DOT label: first, then second.
+std::string dot_label(const std::string& first, const std::string& second) {
+  const std::string a = dot_quoted(first), b = dot_quoted(second);
+  return a.substr(0, a.size() - 1) + "\\n" + b.substr(1);
+}
+
+}  // namespace
+
+void print_graph_dot(std::FILE* out, Launch& launch, const std::string& title) {
+  const Graph& graph = launch.graph();
+  std::fprintf(out, "digraph %s {\n  rankdir=LR;\n  node [fontname=\"Helvetica\"];\n",
+               dot_quoted(title).c_str());
+  for (const auto& c : launch.components())
+    std::fprintf(out, "  %s [shape=box, label=%s];\n",
+                 dot_quoted("c:" + c->qualified_name()).c_str(),
+                 dot_quoted(c->qualified_name()).c_str());
+  std::map<std::string, std::pair<bool, bool>> ends;  // topic -> (published, read)
+  for (const EndpointInfo& e : graph.endpoints())
+    (e.kind == EndpointInfo::Kind::kPublisher ? ends[e.topic].first : ends[e.topic].second) = true;
+  for (const std::string& name : graph.topic_names()) {
+    const auto& [published, read] = ends[name];
+    std::fprintf(out, "  %s [shape=ellipse, label=%s%s];\n", dot_quoted("t:" + name).c_str(),
+                 dot_label(name, graph.find(name)->type_name()).c_str(),
+                 published && read ? "" : ", style=dashed, color=red");
+  }
+  for (const EndpointInfo& e : graph.endpoints()) {
+    const bool publishes = e.kind == EndpointInfo::Kind::kPublisher;
+    const std::string component = dot_quoted("c:" + e.component),
+                      topic = dot_quoted("t:" + e.topic);
+    std::fprintf(out, "  %s -> %s;\n", (publishes ? component : topic).c_str(),
+                 (publishes ? topic : component).c_str());
+  }
+  std::fprintf(out, "}\n");
+}
+
+void print_topic_stats(std::FILE* out, const Graph& graph, double run_s) {
+  std::fprintf(
+      out,
+      "# rate_hz: messages per second of the launch's clock (%.1f s of it); latencies: wall time\n",
+      run_s);
   std::fprintf(out, "%-32s %9s %9s %9s %7s %7s %9s %9s %9s\n", "topic", "published", "rate_hz",
                "taken", "dropped", "no_loan", "p50_us", "p99_us", "max_us");
   for (const TopicStats& s : graph.stats())
     std::fprintf(
         out, "%-32s %9llu %9.1f %9llu %7llu %7llu %9.1f %9.1f %9.1f\n", s.name.c_str(),
-        static_cast<unsigned long long>(s.published), s.rate_hz,
+        static_cast<unsigned long long>(s.published),
+        run_s > 0 ? static_cast<double>(s.published) / run_s : 0.0,
         static_cast<unsigned long long>(s.taken),
         static_cast<unsigned long long>(s.dropped) + static_cast<unsigned long long>(s.rejected),
         static_cast<unsigned long long>(s.loan_failures),

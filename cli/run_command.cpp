@@ -13,6 +13,7 @@
 #include "cli/mission_compose.hpp"
 #include "cli/report.hpp"
 #include "cli/run_directory.hpp"
+#include "cli/run_record.hpp"
 #include "components/dds_bridge/dds_bridge.hpp"
 #include "components/mission_monitor/mission_monitor.hpp"
 #include "executors/launch.hpp"
@@ -133,18 +134,18 @@ bool run_until_stopped(Launch& launch, const MissionMonitor* monitor, RunFacts& 
   const auto wall = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
-  run.sim_s = launch.run([&](double elapsed, double duration) {
+  // the last progress line comes before the components' closing reports
+  run.sim_s = launch.run([&](double elapsed, double duration, bool final) {
     if (monitor)
-      print_mission_progress(*monitor, elapsed, duration, wall(), false);
+      print_mission_progress(*monitor, elapsed, duration, wall(), final);
     else
-      print_progress(stderr, launch.graph(), elapsed, duration, false);
+      print_progress(stderr, launch.graph(), elapsed, duration, final);
   });
   run.wall_s = wall();
   const bool interrupted = g_interrupted != 0;  // Ctrl-C / SIGTERM, not the monitor's stop
   g_running = nullptr;
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
-  std::fprintf(stderr, "\n");
   return interrupted;
 }
 
@@ -176,14 +177,13 @@ StopReason stop_reason_of(const MissionMonitor& monitor) {
 // status").
 int finish_mission(Launch& launch, MissionMonitor& monitor, RunFacts& run, bool interrupted,
                    const fs::path& out) {
-  print_mission_progress(monitor, run.sim_s, launch.settings().duration_s, run.wall_s, true);
   monitor.close_time_breakdown();
   run.stop_reason = monitor.finished() ? stop_reason_of(monitor)
                     : interrupted      ? StopReason::kInterrupted
                                        : StopReason::kTimeBudget;
   // the per-topic table goes to the run directory; the terminal gets the summary
   if (std::FILE* f = std::fopen((out / "topics.txt").c_str(), "w"); f != nullptr) {
-    print_topic_stats(f, launch.graph());
+    print_topic_stats(f, launch.graph(), run.sim_s);
     std::fclose(f);
   }
   if (!write_run_directory(launch, monitor, run, out)) return 1;
@@ -246,6 +246,7 @@ int run_launch(const RunOptions& o) {
                    ec.message().c_str());
       return 1;
     }
+    if (!write_run_record(out, o)) return 1;  // launch.resolved.yaml, run.json
     launch->set_stop_condition([monitor] { return monitor->finished(); });
     if (o.trace_events > 0) launch->enable_tracing(o.trace_events);
   }
@@ -257,7 +258,7 @@ int run_launch(const RunOptions& o) {
   const bool interrupted = run_until_stopped(*launch, monitor, run);
   for (const auto* bridge : *bridges) print_bridge_bytes(*bridge, run.sim_s);
   if (monitor == nullptr) {
-    print_topic_stats(stdout, launch->graph());
+    print_topic_stats(stdout, launch->graph(), run.sim_s);
     return print_failures(*launch) ? 4 : 0;  // docs/missions.md, "Exit status"
   }
   return finish_mission(*launch, *monitor, run, interrupted, out);

@@ -30,6 +30,7 @@ struct RunOptions {
   // (robot_id) or "station"
   std::string process = "run";
   uint32_t robot_id = 0;
+  std::string rerun_of;  // scancrew rerun: the run directory it repeats (run.json)
 };
 
 // 0: ran (a mission: its run directory written); 2: the launch file was refused; 1: the

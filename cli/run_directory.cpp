@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/mesh_scores.hpp"
+#include "cli/run_record.hpp"
 #include "components/tsdf_mapper/tsdf_mapper.hpp"
 #include "executors/log.hpp"
 #include "executors/trace.hpp"
@@ -133,6 +134,7 @@ Json run_metrics(const MissionMonitor& monitor, const RunFacts& run,
   m["scene"] = monitor.config().scene;
   m["architecture"] = architecture;
   m["started"] = run.started;
+  m["command"] = shell_quoted(command_line());  // as run.json has it, for the report
   m["completed"] = run.stop_reason == StopReason::kComplete;
   m["stop_reason"] = to_string(run.stop_reason);
   const auto completion = monitor.completion_time_s();

@@ -71,6 +71,11 @@ Result<SweepPlan, std::string> read_plan(const std::string& path) {
   else
     for (const auto& kv : archs) {
       const std::string arch = kv.first.Scalar();
+      // a launch file's path is relative to the sweep file's directory
+      const std::string launch =
+          kv.second.IsScalar() && !kv.second.Scalar().empty()
+              ? (fs::path(path).parent_path() / kv.second.Scalar()).lexically_normal().string()
+              : std::string();
       const auto value = value_of(kArchitectureNames, arch);
       if (!value)
         errors.push_back(yaml_location(path, kv.first) + ": architectures." + arch +
@@ -78,12 +83,12 @@ Result<SweepPlan, std::string> read_plan(const std::string& path) {
       else if (!kv.second.IsScalar() || kv.second.Scalar().empty())
         errors.push_back(yaml_location(path, kv.second) + ": architectures." + arch +
                          ": must be a launch file");
-      else if (std::error_code ec; !fs::is_regular_file(kv.second.Scalar(), ec))
+      else if (std::error_code ec; !fs::is_regular_file(launch, ec))
         errors.push_back(yaml_location(path, kv.second) + ": architectures." + arch + ": '" +
                          kv.second.Scalar() + "' is not a file (paths are relative to the " +
-                         "working directory)");
+                         "sweep file's directory)");
       else
-        plan.launch_of[*value] = kv.second.Scalar();
+        plan.launch_of[*value] = launch;
     }
   if (!errors.empty()) return make_unexpected(join(errors, "\n  "));
   return plan;

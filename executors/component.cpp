@@ -1,6 +1,7 @@
 #include "executors/component.hpp"
 
 #include <algorithm>
+#include <filesystem>
 
 #include "executors/log.hpp"
 
@@ -33,6 +34,14 @@ Component::Component(ComponentContext context) : context_(std::move(context)) {
 }
 
 Component::~Component() = default;
+
+std::string Component::input_path(std::string_view key, const std::string& value) const {
+  const std::filesystem::path path(value);
+  if (value.empty() || path.is_absolute() || context_.launch_dir.empty() ||
+      context_.set_keys.count(std::string(key)) > 0)
+    return value;
+  return (std::filesystem::path(context_.launch_dir) / path).lexically_normal().string();
+}
 
 static Result<void, std::string> bad_transition(const std::string& who, std::string_view what,
                                                 LifecycleState from) {

@@ -20,6 +20,7 @@
 #include <chrono>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -58,6 +59,10 @@ struct ComponentContext {
   std::map<std::string, PortQos> qos;             // port -> QoS overrides
   std::shared_ptr<CallbackGroup> callback_group;  // default group of the component
   std::string security_keys;                      // LaunchSettings::security_keys
+  // Where a relative input file's path is relative to (input_path): the launch file's
+  // directory ("": the working directory), but for the keys given with --set (set_keys).
+  std::string launch_dir;
+  std::set<std::string> set_keys;
 };
 
 enum class LifecycleState { kUnconfigured, kInactive, kActive, kFinalized };
@@ -145,6 +150,11 @@ class Component {
   const std::vector<TeamMember>& team() const;
   // The launch file's security.keys (empty: none).
   const std::string& security_keys() const { return context_.security_keys; }
+  // The file a path parameter (`key`) names, to read: a relative path is relative to the
+  // launch file's directory, as a scene's mesh files are to the scene (MuJoCo's file=,
+  // ROS 2 launch's include), but one given with --set, typed at a shell, is relative to
+  // the working directory. Absolute and empty paths come back as they are.
+  std::string input_path(std::string_view key, const std::string& value) const;
   Graph& graph() { return *context_.graph; }
   // Something failed that loses data or output (a file not written, a replay stopped):
   // logged as an error and kept by the graph, so the run's exit status says so.

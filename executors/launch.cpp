@@ -158,6 +158,7 @@ double Launch::run(const Progress& progress) {
   stop_requested_.store(false);
   activate_all();
   const double ran = step_executor_ ? run_stepped(progress) : run_threaded(progress);
+  if (progress) progress(ran, settings_.duration_s, true);
   deactivate_all();
   // after the components wrote what they write on deactivation (meshes, maps)
   if (step_executor_ && step_gate_ != nullptr) step_gate_->finish(step_executor_->clock().now_ns());
@@ -187,7 +188,7 @@ double Launch::run_stepped(const Progress& progress) {
     step_executor_->run_until(target);
     if (step_gate_ != nullptr) step_gate_->after_step(clock.now_ns());
     if (progress && clock.now_ns() >= next_report) {
-      progress(static_cast<double>(clock.now_ns() - start) * 1e-9, settings_.duration_s);
+      progress(static_cast<double>(clock.now_ns() - start) * 1e-9, settings_.duration_s, false);
       next_report += period_ns;
     }
   }
@@ -223,7 +224,7 @@ double Launch::run_threaded(const Progress& progress) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     if (progress && elapsed() >= next_report) {
-      progress(elapsed(), settings_.duration_s);
+      progress(elapsed(), settings_.duration_s, false);
       next_report += settings_.progress_period_s;
     }
   }

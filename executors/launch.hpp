@@ -107,9 +107,10 @@ class StepGate {
 class Launch {
  public:
   using Errors = std::vector<std::string>;
-  // Called every progress period and once at the end: elapsed and total (0 = open-ended)
-  // seconds on the launch's clock.
-  using Progress = std::function<void(double elapsed_s, double duration_s)>;
+  // Called every progress period and once at the end (final: true, before the components
+  // are deactivated and report): elapsed and total (0 = open-ended) seconds on the launch's
+  // clock.
+  using Progress = std::function<void(double elapsed_s, double duration_s, bool final)>;
 
   static Result<std::unique_ptr<Launch>, Errors> from_file(const std::string& path,
                                                            const LaunchOptions& options = {});

@@ -2,13 +2,32 @@
 // instances (created, configured, checked), then the executor that runs them.
 
 #include <algorithm>
+#include <filesystem>
 #include <map>
+#include <set>
 
 #include "executors/launch_builder.hpp"
 #include "executors/log.hpp"
 #include "executors/registry.hpp"
 
 namespace scancrew {
+
+namespace {
+
+// The keys of component `name`'s parameters that --set gives ("name.key=value").
+std::set<std::string> keys_set_of(const std::string& name,
+                                  const std::vector<std::string>& overrides) {
+  std::set<std::string> keys;
+  for (const std::string& o : overrides) {
+    const size_t dot = o.find('.'), eq = o.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || dot > eq) continue;
+    if (o.compare(0, dot, name) == 0 && dot == name.size())
+      keys.insert(o.substr(dot + 1, eq - dot - 1));
+  }
+  return keys;
+}
+
+}  // namespace
 
 void LaunchBuilder::compose(Launch& launch) {
   LaunchSettings& s = launch.settings_;
@@ -81,6 +100,9 @@ void LaunchBuilder::create_instances(Launch& launch, const std::vector<RobotSpec
       if (!group) group = std::make_shared<CallbackGroup>(group_key, spec.group_type);
       ctx.callback_group = group;
       ctx.security_keys = launch.settings_.security_keys;
+      // input files are relative to the launch file (Component::input_path)
+      ctx.launch_dir = std::filesystem::path(file_).parent_path().string();
+      ctx.set_keys = keys_set_of(spec.name, options_.overrides);
       // a per-robot component's strings name their robot: "{ns}", "{id}"
       // and every component's, the run directory: "{out}"
       std::vector<std::pair<std::string, std::string>> names = {{"{out}", out_dir()}};

@@ -1,9 +1,12 @@
 #include "executors/params.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -132,11 +135,31 @@ ParamReader ParamReader::from_yaml_string(const std::string& text, const std::st
   return reader;
 }
 
+ParamReader ParamReader::describing() {
+  ParamReader reader = make_param_reader(YAML::Node(), "(described)", "params");
+  reader.describing_ = true;
+  return reader;
+}
+
+void ParamReader::record(ParamInfo info) {
+  for (const ParamInfo& known : described_)
+    if (known.key == info.key) return;  // read twice (a topic both exported and imported)
+  described_.push_back(std::move(info));
+}
+
+ParamDoc ParamReader::doc_of(std::string_view key) {
+  if (!describing_) return {};
+  for (size_t i = 0; i < described_.size(); ++i)
+    if (described_[i].key == key) return {&described_, i};
+  return {};
+}
+
 std::string ParamReader::where() const {
   return yaml_location(impl_->file, impl_->node) + ": " + impl_->path;
 }
 
 void ParamReader::error(std::string_view key, const std::string& message) {
+  if (describing_) return;  // no values were read: the checks of defaults say nothing
   const YAML::Node& node = impl_->node;
   YAML::Node at = node.IsMap() ? node[std::string(key)] : YAML::Node();
   errors_.push_back(yaml_location(impl_->file, at.IsDefined() ? at : node) + ": " + impl_->path +
@@ -175,6 +198,57 @@ constexpr const char* kind_name() {
     return "a non-negative integer";
   else
     return "an integer";
+}
+
+// A number as the parameter reference shows it: 10 significant digits ("0.6", not the
+// 0.6000000000000001 that 3 * 0.2 is; 4294967295 whole).
+std::string number_text(double v) {
+  std::array<char, 32> text{};
+  const int n = std::snprintf(text.data(), text.size(), "%.10g", v);
+  return {text.data(), static_cast<size_t>(std::max(n, 0))};
+}
+
+// A range as the parameter reference shows it: "[0, 10]", ">= 1", "<= 5" or "".
+std::string range_text(Range r) {
+  const bool lo = std::isfinite(r.min), hi = std::isfinite(r.max);
+  if (lo && hi) return "[" + number_text(r.min) + ", " + number_text(r.max) + "]";
+  if (lo) return ">= " + number_text(r.min);
+  if (hi) return "<= " + number_text(r.max);
+  return {};
+}
+
+template <class T>
+constexpr const char* type_name() {
+  if constexpr (std::is_same_v<T, bool>)
+    return "bool";
+  else if constexpr (std::is_same_v<T, std::string>)
+    return "string";
+  else if constexpr (std::is_same_v<T, double>)
+    return "double";
+  else if constexpr (std::is_same_v<T, int>)
+    return "int";
+  else if constexpr (std::is_same_v<T, int64_t>)
+    return "int64";
+  else if constexpr (std::is_same_v<T, uint32_t>)
+    return "uint32";
+  else
+    return "uint64";
+}
+
+// A default as the parameter reference shows it.
+template <class T>
+std::string value_text(const T& value) {
+  if constexpr (std::is_same_v<T, bool>) {
+    return value ? "true" : "false";
+  } else if constexpr (std::is_same_v<T, std::string>) {
+    return value;
+  } else if constexpr (std::is_floating_point_v<T>) {
+    return number_text(value);
+  } else {
+    std::array<char, 64> text{};
+    const auto end = std::to_chars(text.data(), text.data() + text.size(), value).ptr;
+    return {text.data(), end};
+  }
 }
 
 template <class T>
@@ -220,6 +294,14 @@ bool parse_scalar(const std::string& text, T& out) {
 template <class T>
 void ParamReader::read(std::string_view key, T& value, Range range, bool is_required) {
   asked_.emplace_back(key);
+  if (describing_) {
+    record({.key = std::string(key),
+            .type = type_name<T>(),
+            .default_value = value_text(value),
+            .range = range_text(range),
+            .required = is_required});
+    return;
+  }
   const Range r = clamp_range<T>(range);
   const std::string allowed = std::is_arithmetic_v<T> && !std::is_same_v<T, bool>
                                   ? describe_range(kind_name<T>(), r)
@@ -250,18 +332,20 @@ void ParamReader::read(std::string_view key, T& value, Range range, bool is_requ
 }
 
 template <class T>
-void ParamReader::optional(std::string_view key, T& value, Range range) {
+ParamDoc ParamReader::optional(std::string_view key, T& value, Range range) {
   read(key, value, range, false);
+  return doc_of(key);
 }
 template <class T>
-void ParamReader::required(std::string_view key, T& value, Range range) {
+ParamDoc ParamReader::required(std::string_view key, T& value, Range range) {
   read(key, value, range, true);
+  return doc_of(key);
 }
 
 // NOLINTBEGIN(bugprone-macro-parentheses): T is a type; parentheses would not parse
-#define SCANCREW_PARAM_TYPE(T)                                         \
-  template void ParamReader::optional<T>(std::string_view, T&, Range); \
-  template void ParamReader::required<T>(std::string_view, T&, Range);
+#define SCANCREW_PARAM_TYPE(T)                                             \
+  template ParamDoc ParamReader::optional<T>(std::string_view, T&, Range); \
+  template ParamDoc ParamReader::required<T>(std::string_view, T&, Range);
 SCANCREW_PARAM_TYPE(double)
 SCANCREW_PARAM_TYPE(int)
 SCANCREW_PARAM_TYPE(int64_t)
@@ -272,13 +356,23 @@ SCANCREW_PARAM_TYPE(std::string)
 #undef SCANCREW_PARAM_TYPE
 // NOLINTEND(bugprone-macro-parentheses): end of the explicit instantiations above
 
-void ParamReader::choice(std::string_view key, std::string& value,
-                         std::initializer_list<std::string_view> allowed, bool is_required) {
+ParamDoc ParamReader::choice(std::string_view key, std::string& value,
+                             std::initializer_list<std::string_view> allowed, bool is_required) {
   choose(key, value, std::vector<std::string_view>(allowed), is_required);
+  return doc_of(key);
 }
 
 bool ParamReader::choose(std::string_view key, std::string& value,
                          const std::vector<std::string_view>& allowed, bool is_required) {
+  if (describing_) {
+    asked_.emplace_back(key);
+    record({.key = std::string(key),
+            .type = "choice",
+            .default_value = value,
+            .allowed = {allowed.begin(), allowed.end()},
+            .required = is_required});
+    return true;
+  }
   std::string picked = value;
   read(key, picked, {}, is_required);
   std::string list;
@@ -291,18 +385,27 @@ bool ParamReader::choose(std::string_view key, std::string& value,
   return true;
 }
 
-void ParamReader::optional_list(std::string_view key, std::vector<double>& value, size_t size,
-                                Range range) {
+ParamDoc ParamReader::optional_list(std::string_view key, std::vector<double>& value, size_t size,
+                                    Range range) {
   asked_.emplace_back(key);
+  if (describing_) {
+    std::string shown;
+    for (const double v : value) shown += (shown.empty() ? "" : ", ") + value_text(v);
+    record({.key = std::string(key),
+            .type = size ? "list<double> of " + std::to_string(size) : "list<double>",
+            .default_value = "[" + shown + "]",
+            .range = range_text(range)});
+    return doc_of(key);
+  }
   const YAML::Node& node = impl_->node;
   const YAML::Node item = node.IsMap() ? node[std::string(key)] : YAML::Node();
-  if (!item.IsDefined() || item.IsNull()) return;
+  if (!item.IsDefined() || item.IsNull()) return {};
   const std::string allowed =
       (size ? "a list of " + std::to_string(size) + " " : std::string("a list of ")) +
       describe_range("numbers", range);
   if (!item.IsSequence() || (size != 0 && item.size() != size)) {
     error(key, "wrong shape; allowed: " + allowed);
-    return;
+    return {};
   }
   std::vector<double> parsed;
   for (const auto& element : item) {
@@ -311,31 +414,39 @@ void ParamReader::optional_list(std::string_view key, std::vector<double>& value
         v > range.max) {
       error(key, "element '" + (element.IsScalar() ? element.Scalar() : "?") +
                      "' is invalid; allowed: " + allowed);
-      return;
+      return {};
     }
     parsed.push_back(v);
   }
   value = std::move(parsed);
+  return {};
 }
 
-void ParamReader::optional_list(std::string_view key, std::vector<std::string>& value) {
+ParamDoc ParamReader::optional_list(std::string_view key, std::vector<std::string>& value) {
   asked_.emplace_back(key);
+  if (describing_) {
+    std::string shown;
+    for (const std::string& v : value) shown += (shown.empty() ? "" : ", ") + v;
+    record({.key = std::string(key), .type = "list<string>", .default_value = "[" + shown + "]"});
+    return doc_of(key);
+  }
   const YAML::Node& node = impl_->node;
   const YAML::Node item = node.IsMap() ? node[std::string(key)] : YAML::Node();
-  if (!item.IsDefined() || item.IsNull()) return;
+  if (!item.IsDefined() || item.IsNull()) return {};
   if (!item.IsSequence()) {
     error(key, "wrong shape; allowed: a list of strings");
-    return;
+    return {};
   }
   std::vector<std::string> parsed;
   for (const auto& element : item) {
     if (!element.IsScalar()) {
       error(key, "an element is not a string; allowed: a list of strings");
-      return;
+      return {};
     }
     parsed.push_back(substitute(element.Scalar(), impl_->substitutions));
   }
   value = std::move(parsed);
+  return {};
 }
 
 void ParamReader::finish() {

@@ -10,9 +10,10 @@ ComponentRegistry& ComponentRegistry::instance() {
 }
 
 bool ComponentRegistry::add(const std::string& type, Factory factory, std::string description,
-                            bool world) {
+                            bool world, ParamsReader read_params) {
   const bool inserted =
-      entries_.emplace(type, Entry{std::move(factory), std::move(description), world}).second;
+      entries_.emplace(type, Entry{std::move(factory), std::move(description), world, read_params})
+          .second;
   SCANCREW_CHECK(inserted, "two components registered under one name");
   return inserted;
 }
@@ -20,6 +21,14 @@ bool ComponentRegistry::add(const std::string& type, Factory factory, std::strin
 const ComponentRegistry::Entry* ComponentRegistry::find(const std::string& type) const {
   auto it = entries_.find(type);
   return it == entries_.end() ? nullptr : &it->second;
+}
+
+std::vector<ParamInfo> ComponentRegistry::parameters(const std::string& type) const {
+  const Entry* entry = find(type);
+  if (entry == nullptr || entry->read_params == nullptr) return {};
+  ParamReader reader = ParamReader::describing();
+  entry->read_params(reader);
+  return reader.described();
 }
 
 std::vector<std::string> ComponentRegistry::types() const {

@@ -7,7 +7,10 @@
 // A registered class C provides:
 //   static constexpr std::string_view kDescription;    // one line for `scancrew components`
 //   struct Config { ... };                             // plain struct with defaults
-//   static Config read_config(ParamReader&);           // typed, validated parameters
+//   static Config read_config(ParamReader&);           // typed, validated parameters; run
+//                                                       // over ParamReader::describing() it
+//                                                       // lists them (`scancrew components
+//                                                       // NAME`, docs/parameters.md)
 //   C(ComponentContext, Config);
 //   static constexpr bool kWorld = true;                // optional: not on any robot or
 //                                                       // station (the simulator, the
@@ -31,17 +34,24 @@ class ComponentRegistry {
   // Builds a component from its parameters, or returns the parameter errors.
   using Factory = std::function<Result<std::unique_ptr<Component>, std::vector<std::string>>(
       ComponentContext, ParamReader&)>;
+  // Runs the type's read_config() over a reader (ParamReader::describing()).
+  using ParamsReader = void (*)(ParamReader&);
   struct Entry {
     Factory factory;
     std::string description;
     bool world = false;  // C::kWorld (StepExecutor, compute_time: charged)
+    ParamsReader read_params = nullptr;
   };
 
   static ComponentRegistry& instance();
 
-  bool add(const std::string& type, Factory factory, std::string description, bool world = false);
+  bool add(const std::string& type, Factory factory, std::string description, bool world = false,
+           ParamsReader read_params = nullptr);
   const Entry* find(const std::string& type) const;
   std::vector<std::string> types() const;
+  // The parameters of `type`, as its read_config() asks for them, in that order; empty for a
+  // type not registered or registered without read_params.
+  std::vector<ParamInfo> parameters(const std::string& type) const;
 
  private:
   std::map<std::string, Entry> entries_;
@@ -57,6 +67,11 @@ Result<std::unique_ptr<Component>, std::vector<std::string>> make_component(
 }
 
 template <class C>
+void read_component_params(ParamReader& params) {
+  (void)C::read_config(params);
+}
+
+template <class C>
 constexpr bool is_world_component() {
   if constexpr (requires { C::kWorld; })
     return C::kWorld;
@@ -66,10 +81,10 @@ constexpr bool is_world_component() {
 
 }  // namespace scancrew
 
-#define SCANCREW_REGISTER_COMPONENT(Class, type_name)                                              \
-  namespace {                                                                                      \
-  [[maybe_unused]] const bool scancrew_registered_##Class =                                        \
-      ::scancrew::ComponentRegistry::instance().add(type_name, &::scancrew::make_component<Class>, \
-                                                    std::string(Class::kDescription),              \
-                                                    ::scancrew::is_world_component<Class>());      \
+#define SCANCREW_REGISTER_COMPONENT(Class, type_name)                                          \
+  namespace {                                                                                  \
+  [[maybe_unused]] const bool scancrew_registered_##Class =                                    \
+      ::scancrew::ComponentRegistry::instance().add(                                           \
+          type_name, &::scancrew::make_component<Class>, std::string(Class::kDescription),     \
+          ::scancrew::is_world_component<Class>(), &::scancrew::read_component_params<Class>); \
   }

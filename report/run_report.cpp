@@ -297,6 +297,9 @@ constexpr RunFile kRunFiles[] = {
      "ises_left"},
     {"metrics.json", "the mission's metrics (the tables above)"},
     {"trace.json", "the execution trace: open trace.json in https://ui.perfetto.dev"},
+    {"launch.resolved.yaml", "the launch file as the run composed it, its --set overrides applied"},
+    {"run.json",
+     "the command, working directory, seeds and versions: scancrew rerun DIR repeats it"},
 };
 
 void file_table(std::ostream& out, const fs::path& dir) {
@@ -402,6 +405,9 @@ Result<void, std::string> write_report(const std::string& run_dir) {
        << "</h1>\n<p class=\"sub\">" << (launch.empty() ? kMissing : markup_escape(launch))
        << " &middot; started " << cell(metrics, "started", Format::kText) << " &middot; "
        << cell(metrics, "architecture", Format::kText) << "</p>\n";
+  if (metrics.contains("command"))
+    html << "<p class=\"sub\">Command: <code>" << cell(metrics, "command", Format::kText)
+         << "</code></p>\n";
   for (const std::string& note : in.notes)
     html << "<p class=\"note\">Left out of the pictures: " << markup_escape(note) << "</p>\n";
   summary_table(html, metrics);

@@ -43,7 +43,7 @@ Result<SequenceInfo, std::string> record_sequence(const SequenceOptions& o) {
   if (driver == nullptr || recorder == nullptr)
     return make_unexpected(std::string("the recording launch lacks its driver or recorder"));
   SequenceInfo info;
-  info.sim_s = launch.run([&](double elapsed_s, double /*duration_s*/) {
+  info.sim_s = launch.run([&](double elapsed_s, double /*duration_s*/, bool /*final*/) {
     std::fprintf(stderr, "\rrecording: %5.1f s sim, %5.1f / %.0f m driven", elapsed_s,
                  driver->travelled_m(), o.distance_m);
     if (driver->stopped()) launch.request_stop();

@@ -10,13 +10,14 @@ namespace scancrew::demo {
 
 DemoCamera::Config DemoCamera::read_config(ParamReader& p) {
   Config c;
-  p.optional("rate_hz", c.rate_hz, {0.1, 1000});
-  p.optional("width", c.width, {16, 8192});
-  p.optional("height", c.height, {16, 8192});
-  p.optional("disparity_px", c.disparity_px, {1, 256});
-  p.optional("fx_px", c.fx_px, {1, 1e5});
-  p.optional("baseline_m", c.baseline_m, {1e-3, 10});
-  p.optional("seed", c.seed);
+  p.optional("rate_hz", c.rate_hz, {0.1, 1000}).doc("frame rate (Hz)");
+  p.optional("width", c.width, {16, 8192}).doc("image width (px)");
+  p.optional("height", c.height, {16, 8192}).doc("image height (px)");
+  p.optional("disparity_px", c.disparity_px, {1, 256})
+      .doc("the known disparity of the random-dot pair (px)");
+  p.optional("fx_px", c.fx_px, {1, 1e5}).doc("focal length of the intrinsics it sends (px)");
+  p.optional("baseline_m", c.baseline_m, {1e-3, 10}).doc("stereo baseline it sends (m)");
+  p.optional("seed", c.seed).doc("random seed of the dots");
   return c;
 }
 

@@ -7,7 +7,8 @@ namespace scancrew::demo {
 
 DemoMonitor::Config DemoMonitor::read_config(ParamReader& p) {
   Config c;
-  p.required("expected_disparity_px", c.expected_disparity_px, {1, 512});
+  p.required("expected_disparity_px", c.expected_disparity_px, {1, 512})
+      .doc("the disparity the estimates are checked against (px)");
   return c;
 }
 

@@ -9,8 +9,9 @@ namespace scancrew::demo {
 
 DisparityProbe::Config DisparityProbe::read_config(ParamReader& p) {
   Config c;
-  p.optional("max_disparity_px", c.max_disparity_px, {1, 512});
-  p.optional("band_rows", c.band_rows, {1, 4096});
+  p.optional("max_disparity_px", c.max_disparity_px, {1, 512}).doc("largest shift searched (px)");
+  p.optional("band_rows", c.band_rows, {1, 4096})
+      .doc("rows around the image centre used for matching");
   return c;
 }
 

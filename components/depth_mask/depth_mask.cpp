@@ -12,10 +12,13 @@ namespace scancrew::depth_mask {
 
 DepthMask::Config DepthMask::read_config(ParamReader& p) {
   Config c;
-  p.optional_list("ground_body_m", c.ground_body_m, 3, {0.01, 20});
-  p.optional_list("multirotor_body_m", c.multirotor_body_m, 3, {0.01, 20});
-  p.optional("margin_m", c.margin_m, {0, 5});
-  p.optional("max_pose_age_s", c.max_pose_age_s, {0.001, 3600});
+  p.optional_list("ground_body_m", c.ground_body_m, 3, {0.01, 20})
+      .doc("a ground teammate's box: length, width, height (m)");
+  p.optional_list("multirotor_body_m", c.multirotor_body_m, 3, {0.01, 20})
+      .doc("a multirotor teammate's box: length, width, height (m)");
+  p.optional("margin_m", c.margin_m, {0, 5}).doc("grows every box side (m)");
+  p.optional("max_pose_age_s", c.max_pose_age_s, {0.001, 3600})
+      .doc("older teammate poses are not used (the mask would lag) (s)");
   return c;
 }
 

@@ -25,29 +25,50 @@ std::string join(const std::vector<std::string>& parts, const char* separator) {
 
 HardwareBackend::Config HardwareBackend::read_config(ParamReader& p) {
   Config c;
-  p.required("left_device", c.left_device);
-  p.required("right_device", c.right_device);
-  p.choice("camera_api", c.camera_api, kCameraApiNames);
-  p.required("calibration", c.calibration);
-  p.optional("rate_hz", c.rate_hz, {0.1, 1000});
-  p.optional("width", c.width, {0, 65535});
-  p.optional("height", c.height, {0, 65535});
+  p.required("left_device", c.left_device)
+      .doc(
+          "left camera: /dev/videoN, an image-sequence pattern (dir/left_%03d.png), or anything "
+          "cv::VideoCapture opens");
+  p.required("right_device", c.right_device).doc("right camera, as left_device");
+  p.choice("camera_api", c.camera_api, kCameraApiNames)
+      .doc("auto: V4L2 for /dev/*, the image-sequence reader for a name with %d, else any backend");
+  p.required("calibration", c.calibration)
+      .doc("calibration file, relative to the launch file (--set: the working directory)");
+  p.optional("rate_hz", c.rate_hz, {0.1, 1000})
+      .doc("frames grabbed per second (also asked of V4L2 cameras)");
+  p.optional("width", c.width, {0, 65535})
+      .doc("requested capture width (px; both or neither; 0: the calibration's)");
+  p.optional("height", c.height, {0, 65535})
+      .doc("requested capture height (px; 0: the calibration's)");
   if ((c.width == 0) != (c.height == 0))
     p.report(c.width == 0 ? "width" : "height",
              "set width and height together, or neither (the calibration's image size)");
-  p.optional("rectify_alpha", c.rectify_alpha, {-1, 1});
-  p.optional("camera_buffer_frames", c.camera_buffer_frames, {1, 32});
-  p.optional_list("camera_mount_m", c.camera_mount_m, 3, {-10, 10});
-  p.optional("imu_device", c.imu_device);
-  p.optional("imu_baud", c.imu_baud, {1200, 4000000});
+  p.optional("rectify_alpha", c.rectify_alpha, {-1, 1})
+      .doc(
+          "cv::stereoRectify alpha: 0 valid pixels only, 1 every source pixel, -1 OpenCV's "
+          "default");
+  p.optional("camera_buffer_frames", c.camera_buffer_frames, {1, 32})
+      .doc("V4L2 driver queue (1: always the freshest frame)");
+  p.optional_list("camera_mount_m", c.camera_mount_m, 3, {-10, 10})
+      .doc(
+          "the left camera on the body: x forward, y left, z up from the floor under the robot's "
+          "centre (m)");
+  p.optional("imu_device", c.imu_device)
+      .doc("serial IMU device, e.g. /dev/ttyUSB0 (\"\": no IMU; the imu topic stays silent)");
+  p.optional("imu_baud", c.imu_baud, {1200, 4000000}).doc("IMU baud rate (a termios rate)");
   if (!SerialPort::supported_baud(c.imu_baud))
     p.report("imu_baud", std::to_string(c.imu_baud) + " is not a termios baud rate; allowed: " +
                              SerialPort::supported_bauds());
-  p.optional("imu_poll_hz", c.imu_poll_hz, {1, 10000});
-  p.optional("imu_max_line_bytes", c.imu_max_line_bytes, {32, 65536});
-  p.optional("imu_silence_s", c.imu_silence_s, {0.001, 3600});
-  p.optional("base_host", c.base_host);
-  p.optional("base_port", c.base_port, {0, 65535});
+  p.optional("imu_poll_hz", c.imu_poll_hz, {1, 10000})
+      .doc("how often the port is read; at least the IMU's line rate (Hz)");
+  p.optional("imu_max_line_bytes", c.imu_max_line_bytes, {32, 65536})
+      .doc("longer IMU lines are discarded");
+  p.optional("imu_silence_s", c.imu_silence_s, {0.001, 3600})
+      .doc("warn once when no valid IMU line arrives for this long (s)");
+  p.optional("base_host", c.base_host)
+      .doc("base controller's IPv4 (\"\": cmd_vel is read and dropped, counted)");
+  p.optional("base_port", c.base_port, {0, 65535})
+      .doc("base controller's UDP port; required with base_host");
   if (!c.base_host.empty() && !BaseCommandLink::valid_ipv4(c.base_host))
     p.report("base_host", "'" + c.base_host +
                               "' is not an IPv4 address; allowed: a dotted quad such as "
@@ -70,6 +91,7 @@ std::string HardwareBackend::base_name() const {
 
 Result<void, std::string> HardwareBackend::on_configure() {
   // every device is opened into a local first: an error returns with nothing left open
+  config_.calibration = input_path("calibration", config_.calibration);
   auto calibration = load_stereo_calibration(config_.calibration);
   if (!calibration) return make_unexpected("calibration: " + join(calibration.error(), "; "));
   const CameraCalibration& cal = calibration->left;

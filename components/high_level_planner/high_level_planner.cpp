@@ -26,8 +26,10 @@ constexpr uint32_t kGroundBit = msg::kGroundRobotBit;
 constexpr uint32_t kMultirotorBit = msg::kMultirotorBit;
 
 void read_penalties(ParamReader& p, const std::string& type, HighLevelPlanner::Penalties& out) {
-  p.optional(type + "_lambda_tc_per_m", out.lambda_tc_per_m, {0, 100});
-  p.optional(type + "_lambda_ic_per_m", out.lambda_ic_per_m, {0, 100});
+  p.optional(type + "_lambda_tc_per_m", out.lambda_tc_per_m, {0, 100})
+      .doc("λ_tc of this robot kind (per m; tables 5.3, 2.2)");
+  p.optional(type + "_lambda_ic_per_m", out.lambda_ic_per_m, {0, 100})
+      .doc("λ_ic of this robot kind (per m; tables 5.3, 2.2)");
 }
 
 Eigen::Vector3d vec(const msg::Vec3& v) {
@@ -61,17 +63,31 @@ struct RoadmapMemo {
 
 HighLevelPlanner::Config HighLevelPlanner::read_config(ParamReader& p) {
   Config c;
-  p.choice("algorithm", c.algorithm, kAlgorithmNames);
-  p.choice("inter_cluster_distance", c.inter_cluster_distance, kInterClusterDistanceNames);
+  p.choice("algorithm", c.algorithm, kAlgorithmNames)
+      .doc(
+          "tsga (centralized: all sequences), dist_tsga (per robot: its own sequence) or nnb "
+          "(either)");
+  p.choice("inter_cluster_distance", c.inter_cluster_distance, kInterClusterDistanceNames)
+      .doc(
+          "d(τ_kl): euclidean (straight line) or roadmap (the low-level planner's path length over "
+          "its LazyPRM* roadmap)");
   read_penalties(p, "ground", c.ground);
   read_penalties(p, "multirotor", c.multirotor);
-  p.optional("insertion_iterations", c.options.insertion_iterations, {0, 100000});
-  p.optional("final_iterations", c.options.final_iterations, {0, 1000000});
-  p.optional("seed", c.options.seed);
-  p.choice("allocation_gain", c.options.gain, tsga::kGainNames);
-  p.optional("min_replan_period_s", c.min_replan_period_s, {0, 1e6});
-  p.optional("keep_intra_paths", c.keep_intra_paths);
-  p.optional("idle_teammate_s", c.idle_teammate_s, {0, 1e6});
+  p.optional("insertion_iterations", c.options.insertion_iterations, {0, 100000})
+      .doc("the TSP engine's budget: iterations per insertion");
+  p.optional("final_iterations", c.options.final_iterations, {0, 1000000})
+      .doc("the TSP engine's budget: iterations of the final search");
+  p.optional("seed", c.options.seed).doc("the TSP engine's random seed");
+  p.choice("allocation_gain", c.options.gain, tsga::kGainNames)
+      .doc("the gain the allocation weighs: arc or arrival (docs/tsga.md)");
+  p.optional("min_replan_period_s", c.min_replan_period_s, {0, 1e6})
+      .doc("sim seconds between two plans on cluster updates (0: every update)");
+  p.optional("keep_intra_paths", c.keep_intra_paths)
+      .doc(
+          "a cluster whose viewpoints are those of the last plan keeps its intra-cluster path "
+          "(same plans, faster)");
+  p.optional("idle_teammate_s", c.idle_teammate_s, {0, 1e6})
+      .doc("dist_tsga: plan without a teammate idle this long (s; 0: never)");
   c.roadmap = low_level_planner::read_planner_config(p);
   return c;
 }

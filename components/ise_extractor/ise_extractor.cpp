@@ -20,21 +20,34 @@ using robot::RobotKind;
 namespace {
 
 void read_type(ParamReader& p, const std::string& name, RobotTypeSpec& t) {
-  p.optional(name + "_delta_pose_m", t.delta_pose_m, {0.01, 1000});
-  p.optional(name + "_fov_h_deg", t.fov_h_deg, {1, 179});
-  p.optional(name + "_fov_v_deg", t.fov_v_deg, {1, 179});
-  p.optional(name + "_min_range_m", t.min_range_m, {0.001, 1000});
-  p.optional(name + "_max_range_m", t.max_range_m, {0.01, 1000});
-  p.optional(name + "_clearance_m", t.clearance_m, {0, 100});
-  p.optional(name + "_unknown_is_free", t.unknown_is_free);
-  p.optional(name + "_viewpoint_in_unknown", t.viewpoint_in_unknown);
+  p.optional(name + "_delta_pose_m", t.delta_pose_m, {0.01, 1000})
+      .doc("δ_pose: a viewpoint's distance from its ISE (m; tables 5.3, 2.1)");
+  p.optional(name + "_fov_h_deg", t.fov_h_deg, {1, 179})
+      .doc("camera's horizontal field of view (degrees)");
+  p.optional(name + "_fov_v_deg", t.fov_v_deg, {1, 179})
+      .doc("camera's vertical field of view (degrees)");
+  p.optional(name + "_min_range_m", t.min_range_m, {0.001, 1000})
+      .doc("camera range: nearest depth (m)");
+  p.optional(name + "_max_range_m", t.max_range_m, {0.01, 1000})
+      .doc("camera range: farthest depth (m)");
+  p.optional(name + "_clearance_m", t.clearance_m, {0, 100})
+      .doc("the free radius a viewpoint needs (m; default the body's bounding radius)");
+  p.optional(name + "_unknown_is_free", t.unknown_is_free)
+      .doc("unknown voxels count as free in the clearance region");
+  p.optional(name + "_viewpoint_in_unknown", t.viewpoint_in_unknown)
+      .doc(
+          "open air: the viewpoint's own voxel may be unknown, and gain rays cross unknown voxels");
   if (t.type == RobotKind::kMultirotor) {
-    p.optional(name + "_min_altitude_m", t.min_altitude_m, {-1e4, 1e4});
-    p.optional(name + "_max_altitude_m", t.max_altitude_m, {-1e4, 1e4});
+    p.optional(name + "_min_altitude_m", t.min_altitude_m, {-1e4, 1e4})
+        .doc("the low-level planner's altitude band, bottom: a lower candidate moves up to it (m)");
+    p.optional(name + "_max_altitude_m", t.max_altitude_m, {-1e4, 1e4})
+        .doc("the low-level planner's altitude band, top: a higher candidate moves down to it (m)");
   }
   if (t.type == RobotKind::kGround) {
-    p.optional(name + "_camera_height_m", t.camera_height_m, {0.01, 100});
-    p.optional(name + "_floor_z_m", t.floor_z_m, {-1e4, 1e4});
+    p.optional(name + "_camera_height_m", t.camera_height_m, {0.01, 100})
+        .doc("ground robots: the camera's height above the floor (m)");
+    p.optional(name + "_floor_z_m", t.floor_z_m, {-1e4, 1e4})
+        .doc("ground robots: the floor's height (m)");
   }
 }
 
@@ -61,25 +74,50 @@ IseExtractor::Config IseExtractor::read_config(ParamReader& p) {
   read_type(p, "ground", ground);
   read_type(p, "multirotor", multirotor);
   c.ise.robot_types = {ground, multirotor};  // narrowed to the team's kinds on configure
-  p.optional("merge_distance_m", c.ise.merge_distance_m, {0, 100});
-  p.optional("merge_angle_deg", c.ise.merge_angle_deg, {0, 89.9});
-  p.optional("d_v_m", c.ise.d_v_m, {0.01, 1000});
-  p.optional("d_v_max_m", c.ise.d_v_max_m, {0.01, 1000});
-  p.optional("gain_rows", c.ise.gain_rows, {1, 1000});
-  p.optional("gain_cols", c.ise.gain_cols, {1, 1000});
-  p.optional("completion_updates", c.ise.completion_updates, {1, 1000000});
+  p.optional("merge_distance_m", c.ise.merge_distance_m, {0, 100})
+      .doc(
+          "ε: viewpoints closer than this (with directions within merge_angle_deg) are merged (m)");
+  p.optional("merge_angle_deg", c.ise.merge_angle_deg, {0, 89.9})
+      .doc("direction tolerance of the merge (degrees)");
+  p.optional("d_v_m", c.ise.d_v_m, {0.01, 1000})
+      .doc("d_v: a viewpoint joins a cluster when a member is within this (m; table 5.3)");
+  p.optional("d_v_max_m", c.ise.d_v_max_m, {0.01, 1000})
+      .doc(
+          "d_v^max: a viewpoint with no neighbour within d_v joins its nearest one within this "
+          "(m)");
+  p.optional("gain_rows", c.ise.gain_rows, {1, 1000})
+      .doc("gain rays per viewpoint: rows over the camera's FOV (odd: one along the optical axis)");
+  p.optional("gain_cols", c.ise.gain_cols, {1, 1000})
+      .doc("gain rays per viewpoint: columns over the camera's FOV");
+  p.optional("completion_updates", c.ise.completion_updates, {1, 1000000})
+      .doc("complete after this many consecutive updates with no inspectable ISE");
   std::vector<double> region_min, region_max;
-  p.optional_list("region_min_m", region_min, 3, {-1e6, 1e6});
-  p.optional_list("region_max_m", region_max, 3, {-1e6, 1e6});
+  p.optional_list("region_min_m", region_min, 3, {-1e6, 1e6})
+      .doc(
+          "the box to reconstruct, lower corner [x, y, z] (world, m): ISEs outside are dropped; "
+          "default everywhere");
+  p.optional_list("region_max_m", region_max, 3, {-1e6, 1e6})
+      .doc("the box to reconstruct, upper corner [x, y, z] (world, m)");
   if (region_min.size() == 3) c.ise.region_min_m = Eigen::Vector3d(region_min.data());
   if (region_max.size() == 3) c.ise.region_max_m = Eigen::Vector3d(region_max.data());
   if (!(c.ise.region_min_m.array() < c.ise.region_max_m.array()).all())
     p.report("region_max_m", "must be above region_min_m on every axis");
-  p.optional("ply_path", c.ply_path);
-  p.optional("give_up_visits", c.give_up_visits, {0, 1000000});
-  p.optional("visit_distance_m", c.visit_distance_m, {0.01, 100});
-  p.optional("visit_angle_deg", c.visit_angle_deg, {0.1, 180});
-  p.optional("visit_period_s", c.visit_period_s, {0, 1000});
+  p.optional("ply_path", c.ply_path)
+      .doc(
+          "a picture of the last result (coloured point cloud), written at stop (empty: not "
+          "written)");
+  p.optional("give_up_visits", c.give_up_visits, {0, 1000000})
+      .doc(
+          "an ISE still incomplete after this many visits is given up (0: never, the thesis; "
+          "docs/ise.md)");
+  p.optional("visit_distance_m", c.visit_distance_m, {0.01, 100})
+      .doc("a robot this near a viewpoint (horizontally, for a ground viewpoint) stands at it (m)");
+  p.optional("visit_angle_deg", c.visit_angle_deg, {0.1, 180})
+      .doc("and its yaw this close to the viewpoint's (degrees)");
+  p.optional("visit_period_s", c.visit_period_s, {0, 1000})
+      .doc(
+          "a stay at a viewpoint counts a visit on arrival and one more per this much time (s; 0: "
+          "every update)");
   return c;
 }
 

@@ -25,27 +25,53 @@ bool finite(const msg::Vec3& v) {
 
 LowLevelPlanner::Config LowLevelPlanner::read_config(ParamReader& p) {
   Config c;
-  p.optional("control_period_s", c.control_period_s, {0.001, 10});
-  p.optional("traffic_policy", c.traffic_policy);
-  p.optional("redundancy_check", c.redundancy_check);
-  p.optional("max_consecutive_failures", c.max_consecutive_failures, {1, 1000});
-  p.optional("replan_timeout_s", c.replan_timeout_s, {0.1, 1e6});
-  p.optional("backoff_max_m", c.backoff_max_m, {0, 100});
-  p.optional("backoff_step_m", c.backoff_step_m, {0.01, 10});
-  p.optional("backoff_min_m", c.backoff_min_m, {0.01, 100});
-  p.optional("goal_nudge_max_m", c.goal_nudge_max_m, {0, 10});
-  p.optional("stuck_backoff_m", c.stuck_backoff_m, {0, 100});
-  p.optional("path_recheck_horizon_m", c.path_recheck_horizon_m, {0, 1000});
-  p.optional("stall_timeout_s", c.stall.timeout_s, {0, 1e6});
-  p.optional("stall_min_progress_m", c.stall.min_progress_m, {0.001, 100});
-  p.optional("max_detour_factor", c.max_detour_factor, {0, 1000});
+  p.optional("control_period_s", c.control_period_s, {0.001, 10})
+      .doc("period of the checks while moving (GoalReached, ObstacleCheck, TrafficPolicy; s)");
+  p.optional("traffic_policy", c.traffic_policy)
+      .doc("apply the traffic policy between teammates (docs/traffic_policy.md)");
+  p.optional("redundancy_check", c.redundancy_check)
+      .doc("RedundancyCheck against teammates' tours (distributed teams, Algorithm 6)");
+  p.optional("max_consecutive_failures", c.max_consecutive_failures, {1, 1000})
+      .doc("queries in a row without a path before the robot asks for a new plan");
+  p.optional("replan_timeout_s", c.replan_timeout_s, {0.1, 1e6})
+      .doc("a replanning request unanswered this long is sent again, marked repeated (s)");
+  p.optional("backoff_max_m", c.backoff_max_m, {0, 100})
+      .doc("a start in collision: back off to the nearest free pose within this (m)");
+  p.optional("backoff_step_m", c.backoff_step_m, {0.01, 10})
+      .doc("back-off rings this far apart (m)");
+  p.optional("backoff_min_m", c.backoff_min_m, {0.01, 100})
+      .doc("the nearest back-off ring (m; above the tracker's 0.1 m position tolerance)");
+  p.optional("goal_nudge_max_m", c.goal_nudge_max_m, {0, 10})
+      .doc(
+          "a goal in collision moves to the nearest free pose (same yaw) within this before it is "
+          "skipped (m; 0: skip at once)");
+  p.optional("stuck_backoff_m", c.stuck_backoff_m, {0, 100})
+      .doc(
+          "after max_consecutive_failures failures from one place: drop the roadmap and back off "
+          "this much per round (m; 0: never)");
+  p.optional("path_recheck_horizon_m", c.path_recheck_horizon_m, {0, 1000})
+      .doc("at each new map, the path ahead is checked again out to this arc length (m; 0: never)");
+  p.optional("stall_timeout_s", c.stall.timeout_s, {0, 1e6})
+      .doc(
+          "a robot whose way left has not shrunk by stall_min_progress_m for this long plans again "
+          "(s; 0: never)");
+  p.optional("stall_min_progress_m", c.stall.min_progress_m, {0.001, 100})
+      .doc("the progress that ends a stall (m)");
+  p.optional("max_detour_factor", c.max_detour_factor, {0, 1000})
+      .doc(
+          "a goal whose way grows past this × its first path (+ path_recheck_horizon_m) is skipped "
+          "(0: never)");
   if (c.max_detour_factor > 0 && c.max_detour_factor < 1)
     p.report("max_detour_factor", "must be 0 (off) or at least 1");
   if (c.backoff_min_m > c.backoff_max_m) p.report("backoff_min_m", "must not exceed backoff_max_m");
-  p.optional("ground_nominal_speed_mps", c.ground_nominal_speed_mps, {0.01, 100});
-  p.optional("multirotor_nominal_speed_mps", c.multirotor_nominal_speed_mps, {0.01, 100});
-  p.optional("ground_traffic_radius_m", c.ground_traffic_radius_m, {0.01, 100});
-  p.optional("multirotor_traffic_radius_m", c.multirotor_traffic_radius_m, {0.01, 100});
+  p.optional("ground_nominal_speed_mps", c.ground_nominal_speed_mps, {0.01, 100})
+      .doc("the traffic policy's nominal speed of ground robots (m/s; table 5.3)");
+  p.optional("multirotor_nominal_speed_mps", c.multirotor_nominal_speed_mps, {0.01, 100})
+      .doc("the traffic policy's nominal speed of multirotors (m/s; 2.6.1)");
+  p.optional("ground_traffic_radius_m", c.ground_traffic_radius_m, {0.01, 100})
+      .doc("the traffic policy's radius holding a ground robot's body (m)");
+  p.optional("multirotor_traffic_radius_m", c.multirotor_traffic_radius_m, {0.01, 100})
+      .doc("the traffic policy's radius holding a multirotor's body, rotors included (m)");
   c.planner = read_planner_config(p);
   c.ground_checks = read_checks_config(p, RobotKind::kGround);
   c.multirotor_checks = read_checks_config(p, RobotKind::kMultirotor);
@@ -104,7 +130,8 @@ void LowLevelPlanner::create_ports() {
   path_pub_ = create_publisher<msg::LocalPath>("local_path", {.pool_size = 2});
   maneuver_pub_ = create_publisher<msg::Maneuver>("maneuver", {.pool_size = 2});
   state_pub_ = create_publisher<msg::RobotState>("robot_state", {.pool_size = 4});
-  tour_pub_ = create_publisher<msg::TeamPlan>("tour", {.pool_size = 2});
+  // the tour is for teammates (their redundancy check): a robot alone has no reader
+  if (team().size() > 1) tour_pub_ = create_publisher<msg::TeamPlan>("tour", {.pool_size = 2});
   skipped_pub_ = create_publisher<msg::Odometry>("skipped_goal", {.pool_size = 2});
   request_pub_ = create_publisher<msg::ReplanRequest>("replan_request", {.pool_size = 2});
   create_subscription<msg::TeamPlan>("plan", {.depth = 4},
@@ -212,6 +239,7 @@ void LowLevelPlanner::take(const msg::PathSequence& sequence, uint64_t plan_id) 
   consecutive_failures_ = 0;
   traffic_->reset();
   ++stats_.tours;
+  if (!tour_pub_.valid()) return;
   if (auto loan = tour_pub_.loan()) {
     msg::TeamPlan& m = **loan;
     m.plan_id = plan_id;

@@ -25,6 +25,7 @@
 //                                        tour plan id, goal cluster, next viewpoint index,
 //                                        viewpoints left, path length travelled
 //   out  tour          msg::TeamPlan     the tour followed (one sequence), for teammates
+//                                        (not created for a robot alone)
 //   out  skipped_goal  msg::Odometry     each viewpoint skipped (no path, stall, detour):
 //                                        the ISE extractor counts it as a visit
 //   out  replan_request msg::ReplanRequest a request for a new tour, with its reason

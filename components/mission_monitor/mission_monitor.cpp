@@ -25,17 +25,30 @@ double yaw_of(const msg::Pose3& pose) {
 
 MissionMonitor::Config MissionMonitor::read_config(ParamReader& p) {
   Config c;
-  p.optional("scene", c.scene);
-  p.optional("coverage_density_per_m2", c.coverage_density_per_m2, {0.1, 1e5});
-  p.optional("coverage_truncation_share", c.coverage_truncation_share, {0.1, 1});
-  p.optional("coverage_period_s", c.coverage_period_s, {0.1, 3600});
-  p.optional("path_period_s", c.path_period_s, {0.01, 3600});
-  p.choice("maps", c.maps, kMapSourcesNames);
-  p.optional("stop_when_complete", c.stop_when_complete);
-  p.optional("stall_timeout_s", c.stall_timeout_s, {0, 1e6});
-  p.optional("eval_density_per_m2", c.eval_density_per_m2, {1, 1e6});
-  p.optional("eval_e_max_m", c.eval_e_max_m, {0, 100});
-  p.optional("visibility_rays", c.visibility_rays, {0, 100000});
+  p.optional("scene", c.scene)
+      .doc("the scene, for the coverage over time and the final evaluation (\"\": neither)");
+  p.optional("coverage_density_per_m2", c.coverage_density_per_m2, {0.1, 1e5})
+      .doc("ground-truth points of the coverage estimate over time (per m²)");
+  p.optional("coverage_truncation_share", c.coverage_truncation_share, {0.1, 1})
+      .doc("a point is seen when its voxel is observed with |d| < share · μ");
+  p.optional("coverage_period_s", c.coverage_period_s, {0.1, 3600})
+      .doc("period of the coverage estimate (sim s)");
+  p.optional("path_period_s", c.path_period_s, {0.01, 3600})
+      .doc("how often each robot's pose goes to paths.csv (s)");
+  p.choice("maps", c.maps, kMapSourcesNames)
+      .doc(
+          "per_robot (single, distributed), shared (the station's) or none (a process that cannot "
+          "see the maps)");
+  p.optional("stop_when_complete", c.stop_when_complete)
+      .doc("stop the mission at the ISE criterion");
+  p.optional("stall_timeout_s", c.stall_timeout_s, {0, 1e6})
+      .doc("every robot idle (or done) this long stops the mission (s; 0: never)");
+  p.optional("eval_density_per_m2", c.eval_density_per_m2, {1, 1e6})
+      .doc("ground-truth points for the final evaluation (per m²; thesis: 10,000)");
+  p.optional("eval_e_max_m", c.eval_e_max_m, {0, 100})
+      .doc("e_max of the final evaluation (m; 0: each mapper's r_v·√3/2, thesis 5.4)");
+  p.optional("visibility_rays", c.visibility_rays, {0, 100000})
+      .doc("points the scene's meshes hide from every direction are left out (0: off)");
   return c;
 }
 
@@ -46,6 +59,7 @@ Result<void, std::string> MissionMonitor::on_configure() {
   if (team().empty() || (team().size() == 1 && team()[0].ns.empty()))
     return make_unexpected(std::string(
         "mission_monitor needs the launch file's robots (each with a namespace) to watch"));
+  config_.scene = input_path("scene", config_.scene);
   if (!config_.scene.empty()) {
     auto truth = SurfaceCoverage::from_scene(config_.scene,
                                              {.density_per_m2 = config_.coverage_density_per_m2,

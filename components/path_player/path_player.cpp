@@ -10,16 +10,19 @@ namespace scancrew::path_player {
 PathPlayer::Config PathPlayer::read_config(ParamReader& p) {
   Config c;
   std::vector<double> values;
-  p.optional_list("waypoints", values, 0, {-1e6, 1e6});
+  p.optional_list("waypoints", values, 0, {-1e6, 1e6})
+      .doc("x, y, z (m), yaw (deg) quadruples, world frame, at least one");
   if (values.empty() || values.size() % 4 != 0)
     p.report("waypoints", "needs x, y, z (m), yaw (deg) quadruples, at least one");
   else
     for (size_t i = 0; i + 3 < values.size(); i += 4)
       c.waypoints.push_back(
           {{values[i], values[i + 1], values[i + 2]}, values[i + 3] * M_PI / 180.0});
-  p.optional("plan_id", c.plan_id);
-  p.optional("start_s", c.start_s, {0, 1e7});
-  p.optional("period_s", c.period_s, {0, 1e7});
+  p.optional("plan_id", c.plan_id).doc("the plan id the path carries");
+  p.optional("start_s", c.start_s, {0, 1e7})
+      .doc("first sent at this time on the launch's clock (s)");
+  p.optional("period_s", c.period_s, {0, 1e7})
+      .doc("then sent again every period_s, unchanged (s; 0: sent once)");
   return c;
 }
 

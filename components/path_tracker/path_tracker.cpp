@@ -38,39 +38,67 @@ bool same_path(const std::vector<msg::Waypoint>& a, const std::vector<msg::Waypo
 
 PathTracker::Config PathTracker::read_config(ParamReader& p) {
   Config c;
-  p.optional("rate_hz", c.rate_hz, {1, 1000});
-  p.optional("look_ahead_m", c.look_ahead.distance_m, {0.05, 20});
-  p.optional("search_window_m", c.look_ahead.search_window_m, {0.1, 100});
-  p.choice("yaw_source", c.look_ahead.yaw_source, kYawSourceNames);
-  p.optional("gain", c.law.gain, {0.01, 100});
-  p.optional("gain_at_zero", c.law.gain_at_zero, {0.01, 100});
-  p.optional("gain_slope", c.law.gain_slope, {0.01, 1000});
+  p.optional("rate_hz", c.rate_hz, {1, 1000}).doc("command rate (Hz)");
+  p.optional("look_ahead_m", c.look_ahead.distance_m, {0.05, 20})
+      .doc("look-ahead distance along the path (m)");
+  p.optional("search_window_m", c.look_ahead.search_window_m, {0.1, 100})
+      .doc("how far past the progress the projection may move per tick (m)");
+  p.choice("yaw_source", c.look_ahead.yaw_source, kYawSourceNames)
+      .doc("the target's yaw: tangent (direction of travel) or waypoints (the path's own yaws)");
+  p.optional("gain", c.law.gain, {0.01, 100}).doc("PBVS adaptive gain λ(∞)");
+  p.optional("gain_at_zero", c.law.gain_at_zero, {0.01, 100})
+      .doc("PBVS adaptive gain λ(0) (≥ gain)");
+  p.optional("gain_slope", c.law.gain_slope, {0.01, 1000}).doc("PBVS adaptive gain slope λ'(0)");
   if (c.law.gain_at_zero < c.law.gain)
     p.report("gain_at_zero", "must be at least gain (equal: a constant gain)");
-  p.optional("ground_max_speed_mps", c.ground.max_speed_mps, {0.01, 20});
-  p.optional("ground_max_yaw_rate_radps", c.ground.max_yaw_rate_radps, {0.01, 20});
-  p.optional("heading_gain", c.ground.heading_gain, {0.01, 100});
+  p.optional("ground_max_speed_mps", c.ground.max_speed_mps, {0.01, 20})
+      .doc("ground robots' speed limit (m/s; table 5.3)");
+  p.optional("ground_max_yaw_rate_radps", c.ground.max_yaw_rate_radps, {0.01, 20})
+      .doc("ground robots' yaw rate limit (rad/s)");
+  p.optional("heading_gain", c.ground.heading_gain, {0.01, 100})
+      .doc("ground robots far from the target: ω = heading_gain·α (1/s)");
   double turn_deg = c.ground.turn_in_place_rad / kDegToRad;
-  p.optional("turn_in_place_deg", turn_deg, {1, 180});
+  p.optional("turn_in_place_deg", turn_deg, {1, 180})
+      .doc("heading error above which a ground robot turns on the spot (degrees)");
   c.ground.turn_in_place_rad = turn_deg * kDegToRad;
-  p.optional("align_radius_m", c.ground.align_radius_m, {0, 10});
-  p.optional("ground_reverse_max_m", c.ground.reverse_max_m, {0, 10});
-  p.optional("ground_reverse_min_radius_m", c.ground.reverse_min_radius_m, {0, 10});
-  p.optional("multirotor_max_speed_mps", c.multirotor.max_speed_mps, {0.01, 20});
-  p.optional("multirotor_max_vertical_speed_mps", c.multirotor.max_vertical_speed_mps, {0.01, 20});
-  p.optional("multirotor_max_yaw_rate_radps", c.multirotor.max_yaw_rate_radps, {0.01, 20});
-  p.optional("position_tolerance_m", c.position_tolerance_m, {0.001, 10});
+  p.optional("align_radius_m", c.ground.align_radius_m, {0, 10})
+      .doc("ground robots turn to the goal's yaw within this (m; ≤ position_tolerance_m)");
+  p.optional("ground_reverse_max_m", c.ground.reverse_max_m, {0, 10})
+      .doc(
+          "a goal this close behind, with about the robot's yaw, is reached backwards (m; 0: "
+          "never)");
+  p.optional("ground_reverse_min_radius_m", c.ground.reverse_min_radius_m, {0, 10})
+      .doc("backing turns on arcs at least this wide (m; 0: no limit)");
+  p.optional("multirotor_max_speed_mps", c.multirotor.max_speed_mps, {0.01, 20})
+      .doc("multirotors' horizontal speed limit (m/s; tables 3.1, 4.1)");
+  p.optional("multirotor_max_vertical_speed_mps", c.multirotor.max_vertical_speed_mps, {0.01, 20})
+      .doc("multirotors' vertical speed limit (m/s)");
+  p.optional("multirotor_max_yaw_rate_radps", c.multirotor.max_yaw_rate_radps, {0.01, 20})
+      .doc("multirotors' yaw rate limit (rad/s)");
+  p.optional("position_tolerance_m", c.position_tolerance_m, {0.001, 10})
+      .doc("goal and aside pose reached within this (m; horizontal for ground robots)");
   double yaw_tol_deg = c.yaw_tolerance_rad / kDegToRad;
-  p.optional("yaw_tolerance_deg", yaw_tol_deg, {0.01, 180});
+  p.optional("yaw_tolerance_deg", yaw_tol_deg, {0.01, 180})
+      .doc("goal and aside pose reached within this yaw (degrees)");
   c.yaw_tolerance_rad = yaw_tol_deg * kDegToRad;
   if (c.ground.align_radius_m > c.position_tolerance_m)
     p.report("align_radius_m", "must not exceed position_tolerance_m (the robot would stop short)");
-  p.optional("pose_timeout_s", c.pose_timeout_s, {0.01, 100});
-  p.optional("lost_turn_rate_radps", c.lost_turn_rate_radps, {0, 5});
-  p.optional("lost_turn_after_s", c.lost_turn_after_s, {0, 3600});
-  p.optional("initial_turn_deg", c.initial_turn_deg, {0, 1080});
-  p.optional("predict_pose", c.predict_pose);
-  p.optional("new_plan_resumes", c.new_plan_resumes);
+  p.optional("pose_timeout_s", c.pose_timeout_s, {0.01, 100}).doc("older poses: stop (kLost) (s)");
+  p.optional("lost_turn_rate_radps", c.lost_turn_rate_radps, {0, 5})
+      .doc(
+          "ground robot whose odometry lost track: turn on the spot at this rate until it resumes "
+          "(rad/s; 0: hold still)");
+  p.optional("lost_turn_after_s", c.lost_turn_after_s, {0, 3600})
+      .doc("... once it has held still this long without the track coming back (s)");
+  p.optional("initial_turn_deg", c.initial_turn_deg, {0, 1080})
+      .doc(
+          "ground robot: the first scan, a turn on the spot this far before it follows any path "
+          "(degrees; 0: none)");
+  p.optional("predict_pose", c.predict_pose)
+      .doc("move the last pose by the commands sent since its stamp");
+  p.optional("new_plan_resumes", c.new_plan_resumes).doc("a new plan clears a stop or step-aside");
+  p.optional("publish_state", c.publish_state)
+      .doc("false: no tracker_state (a mission reads none)");
   return c;
 }
 
@@ -88,7 +116,7 @@ Result<void, std::string> PathTracker::on_configure() {
   la.planar = ground_;
   look_ahead_ = LookAhead(la);
   cmd_ = create_publisher<msg::VelocityCommand>("cmd_vel");
-  state_ = create_publisher<msg::RobotState>("tracker_state");
+  if (config_.publish_state) state_ = create_publisher<msg::RobotState>("tracker_state");
   create_subscription<msg::LocalPath>("local_path", {.depth = 2},
                                       [this](Sample<msg::LocalPath>&& s) { on_path(*s); });
   create_subscription<msg::Odometry>("pose", {.depth = 4},
@@ -377,6 +405,7 @@ void PathTracker::publish(const msg::VelocityCommand& cmd, int64_t now_ns,
     out.header.stamp_ns = now_ns;
     (void)cmd_.publish(std::move(*loan));
   }
+  if (!state_.valid()) return;
   if (auto loan = state_.loan()) {
     msg::RobotState& s = **loan;
     s = {};

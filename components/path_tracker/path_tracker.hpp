@@ -15,7 +15,7 @@
 //                                        kStepAside: go to the aside pose, then hold;
 //                                        kResume: back to the path (progress goes on)
 //   out  cmd_vel        msg::VelocityCommand  every tick (zero whenever not moving)
-//   out  tracker_state  msg::RobotState  every tick: pose, velocity, mode, plan_id,
+//   out  tracker_state  msg::RobotState  every tick (publish_state): pose, velocity, mode, plan_id,
 //                                        path_index (next waypoint), steps_remaining,
 //                                        path_length_m (distance travelled since start)
 // Modes: kIdle (no path, or an empty / invalid one), kMoving, kDone (the plan's final
@@ -84,6 +84,7 @@ class PathTracker final : public Component {
     double initial_turn_deg = 0;       // ground: turn this far on the spot first (0: no)
     bool predict_pose = true;
     bool new_plan_resumes = true;
+    bool publish_state = true;  // false: no tracker_state (a mission reads none)
   };
   static Config read_config(ParamReader& p);
 

@@ -22,11 +22,14 @@ std::string wire_type_names() {
 
 Recorder::Config Recorder::read_config(ParamReader& p) {
   Config c;
-  p.required("path", c.path);
-  p.optional_list("topics", c.topics);
+  p.required("path", c.path).doc("the recording to write (overwritten)");
+  p.optional_list("topics", c.topics)
+      .doc("the topics to record: \"port\" or \"port:Type\" (required)");
   if (c.topics.empty()) p.report("topics", "required: the list of topics to record");
-  p.optional("queue_depth", c.queue_depth, {1, 100000});
-  p.optional("flush_period_s", c.flush_period_s, {0.01, 3600});
+  p.optional("queue_depth", c.queue_depth, {1, 100000})
+      .doc("per topic: messages waiting to be written");
+  p.optional("flush_period_s", c.flush_period_s, {0.01, 3600})
+      .doc("a crash loses at most this much of the recording (s)");
   return c;
 }
 

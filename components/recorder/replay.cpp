@@ -13,11 +13,14 @@ namespace scancrew::recorder {
 
 Replay::Config Replay::read_config(ParamReader& p) {
   Config c;
-  p.required("path", c.path);
-  p.choice("timing", c.timing, kReplayTimingNames);
-  p.optional("rate", c.rate, {1e-3, 1e3});
-  p.optional("tick_s", c.tick_s, {1e-5, 1});
-  p.optional_list("topics", c.topics);
+  p.required("path", c.path).doc("the recording to play");
+  p.choice("timing", c.timing, kReplayTimingNames)
+      .doc(
+          "relative (the recorded spacing, from the first tick) or absolute (when the clock "
+          "reaches each recorded receive time)");
+  p.optional("rate", c.rate, {1e-3, 1e3}).doc("playback speed (relative timing)");
+  p.optional("tick_s", c.tick_s, {1e-5, 1}).doc("how often due messages are published (s)");
+  p.optional_list("topics", c.topics).doc("absolute names to play (empty: all)");
   return c;
 }
 
@@ -25,6 +28,7 @@ Replay::Replay(ComponentContext context, Config config)
     : Component(std::move(context)), config_(std::move(config)) {}
 
 Result<void, std::string> Replay::on_configure() {
+  config_.path = input_path("path", config_.path);
   auto reader = LogReader::open(config_.path);
   if (!reader) return make_unexpected(reader.error());
   reader_.emplace(std::move(reader).value());

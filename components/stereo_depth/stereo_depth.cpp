@@ -13,33 +13,48 @@ namespace scancrew::stereo_depth {
 StereoDepth::Config StereoDepth::read_config(ParamReader& p) {
   Config c;
   SgbmParams& s = c.sgbm;
-  p.optional("num_disparities", s.num_disparities, {0, 1024});
+  p.optional("num_disparities", s.num_disparities, {0, 1024})
+      .doc("SGBM disparity search range (multiple of 16; 0: f·B/min_range_m)");
   if (s.num_disparities % 16 != 0)
     p.report("num_disparities", "must be a multiple of 16 (or 0: from the camera's min range)");
-  p.optional("block_size", s.block_size, {1, 11});
+  p.optional("block_size", s.block_size, {1, 11}).doc("SGBM block size (odd, px)");
   if (s.block_size % 2 == 0) p.report("block_size", "must be odd");
-  p.optional("p1", s.p1, {0, 100000});
-  p.optional("p2", s.p2, {0, 400000});
+  p.optional("p1", s.p1, {0, 100000}).doc("SGBM smoothness penalty P1 (0: 8·block²)");
+  p.optional("p2", s.p2, {0, 400000}).doc("SGBM smoothness penalty P2 (0: 32·block²; > p1)");
   if (s.p1 != 0 && s.p2 != 0 && s.p2 <= s.p1) p.report("p2", "must be greater than p1");
-  p.optional("uniqueness_ratio", s.uniqueness_ratio, {0, 100});
-  p.optional("speckle_window_size", s.speckle_window_size, {0, 10000});
-  p.optional("speckle_range", s.speckle_range, {0, 64});
-  p.optional("disp12_max_diff", s.disp12_max_diff, {-1, 64});
-  p.optional("pre_filter_cap", s.pre_filter_cap, {1, 63});
-  p.choice("mode", s.mode, kSgbmModeNames);
-  p.optional("texture_threshold", s.texture_threshold, {0, 1000});
-  p.optional("texture_window", s.texture_window, {3, 31});
+  p.optional("uniqueness_ratio", s.uniqueness_ratio, {0, 100})
+      .doc("% margin of the best cost over the second best");
+  p.optional("speckle_window_size", s.speckle_window_size, {0, 10000})
+      .doc("speckle filter window (px; 0: off)");
+  p.optional("speckle_range", s.speckle_range, {0, 64})
+      .doc("disparity variation inside a speckle (px)");
+  p.optional("disp12_max_diff", s.disp12_max_diff, {-1, 64}).doc("left-right check (px; < 0: off)");
+  p.optional("pre_filter_cap", s.pre_filter_cap, {1, 63}).doc("OpenCV SGBM preFilterCap");
+  p.choice("mode", s.mode, kSgbmModeNames).doc("SGBM paths: sgbm (5), hh (8) or sgbm_3way");
+  p.optional("texture_threshold", s.texture_threshold, {0, 1000})
+      .doc("a pixel whose window's mean |Sobel x| is below this (grey levels) is NaN (0: off)");
+  p.optional("texture_window", s.texture_window, {3, 31}).doc("texture check window (odd, px)");
   if (s.texture_window % 2 == 0) p.report("texture_window", "must be odd");
-  p.optional("min_range_m", c.min_range_m, {0.01, 100});
-  p.optional("max_range_m", c.max_range_m, {0.02, 1000});
+  p.optional("min_range_m", c.min_range_m, {0.01, 100})
+      .doc("nearest depth published (m; table 5.3)");
+  p.optional("max_range_m", c.max_range_m, {0.02, 1000})
+      .doc("farthest depth published (m; table 5.3)");
   if (c.max_range_m <= c.min_range_m) p.report("max_range_m", "must be greater than min_range_m");
-  p.optional("max_pending_frames", c.max_pending_frames, {1, 1000});
-  p.optional("pose_history", c.pose_history, {1, 100000});
+  p.optional("max_pending_frames", c.max_pending_frames, {1, 1000})
+      .doc("frames waiting for their pose");
+  p.optional("pose_history", c.pose_history, {1, 100000})
+      .doc("poses kept for frames still to come");
   NearFieldFillConfig& n = c.near_field;
-  p.optional("near_field_range_m", n.range_m, {0, 10});
-  p.optional("near_field_confirm_factor", n.confirm_factor, {1.01, 10});
-  p.optional("near_field_floor_tolerance_m", n.floor_tolerance_m, {0.001, 1});
-  p.optional("near_field_max_height_m", n.max_height_m, {0.01, 10});
+  p.optional("near_field_range_m", n.range_m, {0, 10})
+      .doc(
+          "ground robots: invalid depth where the floor ends nearer than this is filled as an "
+          "obstacle (m; 0: off)");
+  p.optional("near_field_confirm_factor", n.confirm_factor, {1.01, 10})
+      .doc("the invalid run must reach rays meeting the floor this much farther");
+  p.optional("near_field_floor_tolerance_m", n.floor_tolerance_m, {0.001, 1})
+      .doc("a valid point this near the floor plane is floor (m)");
+  p.optional("near_field_max_height_m", n.max_height_m, {0.01, 10})
+      .doc("filled up to this height above the floor (m)");
   return c;
 }
 

@@ -11,16 +11,26 @@ namespace scancrew::team_simulator {
 namespace {
 
 void read_camera(ParamReader& p, const std::string& prefix, sim::CameraSpec& c) {
-  p.optional(prefix + "width", c.width, {16, 8192});
-  p.optional(prefix + "height", c.height, {16, 8192});
-  p.optional(prefix + "fov_h_deg", c.fov_h_deg, {10, 170});
-  p.optional(prefix + "fov_v_deg", c.fov_v_deg, {10, 170});
-  p.optional(prefix + "baseline_m", c.baseline_m, {0, 2});
-  p.optional(prefix + "rate_hz", c.rate_hz, {0.01, 1000});
-  p.optional(prefix + "min_range_m", c.min_range_m, {0.01, 100});
-  p.optional(prefix + "max_range_m", c.max_range_m, {0.02, 1000});
-  p.optional(prefix + "mount_forward_m", c.mount_forward_m, {0, 5});
-  p.optional(prefix + "mount_up_m", c.mount_up_m, {-5, 5});
+  p.optional(prefix + "width", c.width, {16, 8192}).doc("camera image width (px)");
+  p.optional(prefix + "height", c.height, {16, 8192})
+      .doc("camera image height (px; square pixels: must match the FOVs' aspect)");
+  p.optional(prefix + "fov_h_deg", c.fov_h_deg, {10, 170})
+      .doc("camera horizontal field of view (degrees)");
+  p.optional(prefix + "fov_v_deg", c.fov_v_deg, {10, 170})
+      .doc("camera vertical field of view (degrees)");
+  p.optional(prefix + "baseline_m", c.baseline_m, {0, 2})
+      .doc("stereo baseline (m; 0.26 ground robots, 0.11 multirotors)");
+  p.optional(prefix + "rate_hz", c.rate_hz, {0.01, 1000}).doc("camera frame rate (Hz)");
+  p.optional(prefix + "min_range_m", c.min_range_m, {0.01, 100})
+      .doc("depth camera range: nearest (m)");
+  p.optional(prefix + "max_range_m", c.max_range_m, {0.02, 1000})
+      .doc("depth camera range: farthest (m)");
+  p.optional(prefix + "mount_forward_m", c.mount_forward_m, {0, 5})
+      .doc("left camera centre ahead of the body centre (m)");
+  p.optional(prefix + "mount_up_m", c.mount_up_m, {-5, 5})
+      .doc(
+          "left camera centre height (m; ground robot: above the floor; multirotor: above the body "
+          "centre)");
   if (auto problem = c.validate(); !problem.empty()) p.report(prefix + "width", problem);
 }
 
@@ -34,25 +44,39 @@ TeamSimulator::Config TeamSimulator::read_config(ParamReader& p) {
   Config c;
   c.ground_camera = sim::default_camera(robot::RobotKind::kGround);
   c.multirotor_camera = sim::default_camera(robot::RobotKind::kMultirotor);
-  p.required("scene", c.scene);
-  p.optional("physics_step_s", c.physics_step_s, {1e-4, 1});
-  p.optional("command_timeout_s", c.command_timeout_s, {0, 3600});
-  p.optional("log_contacts", c.log_contacts, {0, 100000});
-  p.optional("seed", c.seed);
-  p.optional("publish_stereo", c.publish_stereo);
-  p.optional("publish_depth", c.publish_depth);
-  p.optional("publish_depth_gt", c.publish_depth_gt);
+  p.required("scene", c.scene).doc("scene file (launch_cfg/scenes/*.yaml)");
+  p.optional("physics_step_s", c.physics_step_s, {1e-4, 1})
+      .doc("timer period; MuJoCo integrates at the MJCF timestep inside it (s)");
+  p.optional("command_timeout_s", c.command_timeout_s, {0, 3600})
+      .doc("a robot whose last velocity command is older than this stops (s; 0: never)");
+  p.optional("log_contacts", c.log_contacts, {0, 100000})
+      .doc("the first this many contact onsets are logged (all are counted; 0: none)");
+  p.optional("seed", c.seed).doc("random seed of the sensor noise");
+  p.optional("publish_stereo", c.publish_stereo).doc("publish each robot's stereo pair (stereo)");
+  p.optional("publish_depth", c.publish_depth).doc("publish each robot's noisy depth (depth)");
+  p.optional("publish_depth_gt", c.publish_depth_gt)
+      .doc("publish each robot's ground-truth depth (depth_gt)");
+  p.optional("publish_imu", c.publish_imu)
+      .doc("publish each robot's IMU (false: a mission without odometry reads none)");
   read_camera(p, "ground_camera_", c.ground_camera);
   read_camera(p, "multirotor_camera_", c.multirotor_camera);
-  p.optional("depth_noise", c.depth_noise.enabled);
-  p.optional("disparity_error_px", c.depth_noise.disparity_error_px, {0, 10});
-  p.optional("depth_smoothing", c.depth_noise.smoothing);
-  p.optional("imu_rate_hz", c.imu.rate_hz, {0.1, 2000});
-  p.optional("imu_accel_noise_mps2", c.imu.accel_noise_mps2, {0, 10});
-  p.optional("imu_gyro_noise_radps", c.imu.gyro_noise_radps, {0, 10});
-  p.optional("ground_speed_mps", c.ground_speed_mps, {0.01, 10});
-  p.optional("multirotor_speed_mps", c.multirotor_speed_mps, {0.01, 20});
-  p.optional("max_catch_up_s", c.max_catch_up_s, {1e-3, 10});
+  p.optional("depth_noise", c.depth_noise.enabled)
+      .doc("add disparity noise to the depth (thesis 2.6.1)");
+  p.optional("disparity_error_px", c.depth_noise.disparity_error_px, {0, 10})
+      .doc("|e_d|, the disparity error (px; tables 2.1, 3.1, 4.1)");
+  p.optional("depth_smoothing", c.depth_noise.smoothing)
+      .doc("3x3 Gaussian after the noise (2.6.1)");
+  p.optional("imu_rate_hz", c.imu.rate_hz, {0.1, 2000}).doc("IMU rate (Hz)");
+  p.optional("imu_accel_noise_mps2", c.imu.accel_noise_mps2, {0, 10})
+      .doc("accelerometer white noise, standard deviation per sample (m/s²)");
+  p.optional("imu_gyro_noise_radps", c.imu.gyro_noise_radps, {0, 10})
+      .doc("gyro white noise, standard deviation per sample (rad/s)");
+  p.optional("ground_speed_mps", c.ground_speed_mps, {0.01, 10})
+      .doc("ground robots' nominal speed (m/s; table 5.3)");
+  p.optional("multirotor_speed_mps", c.multirotor_speed_mps, {0.01, 20})
+      .doc("multirotors' nominal speed (m/s; 2.6.1)");
+  p.optional("max_catch_up_s", c.max_catch_up_s, {1e-3, 10})
+      .doc("wall clock: the most physics time one tick steps (s)");
   return c;
 }
 
@@ -63,6 +87,7 @@ TeamSimulator::~TeamSimulator() = default;
 
 Result<void, std::string> TeamSimulator::on_configure() {
   wall_ = clock().type() == ClockType::kWall;
+  config_.scene = input_path("scene", config_.scene);
   if (team().empty() || team().front().ns.empty())
     return make_unexpected(
         std::string("the team simulator needs a robots: section (id, namespace, kind, start)"));
@@ -107,14 +132,14 @@ Result<void, std::string> TeamSimulator::on_configure() {
       p.depth = create_publisher<msg::DepthImage>(ns + "depth", {.pool_size = 4});
     if (config_.publish_depth_gt)
       p.depth_gt = create_publisher<msg::DepthImage>(ns + "depth_gt", {.pool_size = 4});
-    p.imu = create_publisher<msg::Imu>(ns + "imu", {.pool_size = 16});
+    if (config_.publish_imu) p.imu = create_publisher<msg::Imu>(ns + "imu", {.pool_size = 16});
     p.pose_gt = create_publisher<msg::Odometry>(ns + "pose_gt", {.pool_size = 8});
     // the simulator publishes on behalf of each robot: its messages carry the robot's id
     const uint32_t id = sim_->robot(i).id;
     if (p.stereo.valid()) p.stereo.set_robot_id(id);
     for (auto* pub : {&p.depth, &p.depth_gt})
       if (pub->valid()) pub->set_robot_id(id);
-    p.imu.set_robot_id(id);
+    if (p.imu.valid()) p.imu.set_robot_id(id);
     p.pose_gt.set_robot_id(id);
     create_subscription<msg::VelocityCommand>(ns + "cmd_vel", {.depth = 1},
                                               [this, i](Sample<msg::VelocityCommand>&& c) {
@@ -166,11 +191,15 @@ void TeamSimulator::tick() {
     };
     if (stamp >= p.next_imu_ns) {
       p.next_imu_ns = next(p.next_imu_ns, robot.imu.rate_hz);
-      if (auto loan = p.imu.loan()) {
-        **loan = sim_->imu(i);
-        (**loan).header.stamp_ns = stamp;
-        (void)p.imu.publish(std::move(*loan));
-      }
+      // drawn even when not published: the IMU noise and the depth noise share the robot's
+      // generator, so the depth is the same with or without the imu topic
+      const msg::Imu imu = sim_->imu(i);
+      if (p.imu.valid())
+        if (auto loan = p.imu.loan()) {
+          **loan = imu;
+          (**loan).header.stamp_ns = stamp;
+          (void)p.imu.publish(std::move(*loan));
+        }
     }
     if (stamp >= p.next_frame_ns) {
       p.next_frame_ns = next(p.next_frame_ns, robot.camera.rate_hz);

@@ -40,7 +40,7 @@ class TeamSimulator final : public Component {
       "MuJoCo team simulator: stereo, depth, IMU and pose for every robot; reads cmd_vel (the sim "
       "backend)";
   struct Config {
-    std::string scene;  // scene file (launch_cfg/scenes/*.yaml), relative to the working directory
+    std::string scene;  // scene file, relative to the launch file (Component::input_path)
     double physics_step_s = 0.01;  // timer period; MuJoCo integrates at mjcf timestep inside it
     // a robot whose last velocity command is older than this stops (its motor controller's
     // watchdog: a robot whose process died does not drive on); 0: never
@@ -50,6 +50,7 @@ class TeamSimulator final : public Component {
     int log_contacts = 20;
     uint64_t seed = 1;
     bool publish_stereo = true, publish_depth = true, publish_depth_gt = false;
+    bool publish_imu = true;  // false: no imu topics (a mission without odometry reads none)
     sim::CameraSpec ground_camera, multirotor_camera;
     sim::DepthNoiseSpec depth_noise;
     sim::ImuSpec imu;

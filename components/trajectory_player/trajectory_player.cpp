@@ -10,8 +10,12 @@ namespace scancrew::trajectory_player {
 
 TrajectoryPlayer::Config TrajectoryPlayer::read_config(ParamReader& p) {
   Config c;
-  p.required("paths_csv", c.paths_csv);
-  p.optional("lead_s", c.lead_s, {0, 1e4});
+  p.required("paths_csv", c.paths_csv)
+      .doc("the run's paths.csv (t_s, robot_id, x_m, y_m, z_m, yaw_rad)");
+  p.optional("lead_s", c.lead_s, {0, 1e4})
+      .doc(
+          "the target is the pose recorded this long after now (s; after the last sample, the last "
+          "pose)");
   return c;
 }
 
@@ -19,6 +23,7 @@ TrajectoryPlayer::TrajectoryPlayer(ComponentContext context, Config config)
     : Component(std::move(context)), config_(std::move(config)) {}
 
 Result<void, std::string> TrajectoryPlayer::on_configure() {
+  config_.paths_csv = input_path("paths_csv", config_.paths_csv);
   auto samples = report::read_paths_csv(config_.paths_csv);
   if (!samples) return make_unexpected(samples.error());
   for (const report::PathSample& s : *samples) {

@@ -35,33 +35,65 @@ bool unit_quaternion(const msg::Quat& q) {
 
 TsdfMapper::Config TsdfMapper::read_config(ParamReader& p) {
   Config c;
-  p.optional("voxel_m", c.tsdf.voxel_m, {0.005, 10});
+  p.optional("voxel_m", c.tsdf.voxel_m, {0.005, 10}).doc("voxel edge r_v (m)");
   c.tsdf.truncation_m = 3 * c.tsdf.voxel_m;
-  p.optional("truncation_m", c.tsdf.truncation_m, {0.005, 1000});
-  p.optional("w_th", c.tsdf.w_th, {1e-9, 1e9});
-  p.optional("max_weight", c.tsdf.max_weight, {1e-9, 1e9});
-  p.optional("min_range_m", c.tsdf.min_range_m, {0, 1000});
-  p.optional("max_range_m", c.tsdf.max_range_m, {0.01, 1000});
-  p.optional("clear_beyond_range", c.tsdf.clear_beyond_range);
-  p.choice("weight", c.tsdf.weight, tsdf::kTsdfWeightNames);
-  p.optional("tile_px", c.tsdf.tile_px, {1, 64});
+  p.optional("truncation_m", c.tsdf.truncation_m, {0.005, 1000})
+      .doc("truncation distance μ (m; default 3 voxels)");
+  p.optional("w_th", c.tsdf.w_th, {1e-9, 1e9})
+      .doc("W_th: a voxel is known when its weight w ≥ W_th");
+  p.optional("max_weight", c.tsdf.max_weight, {1e-9, 1e9}).doc("the weight w saturates here");
+  p.optional("min_range_m", c.tsdf.min_range_m, {0, 1000})
+      .doc("depth nearer than this is not integrated (m)");
+  p.optional("max_range_m", c.tsdf.max_range_m, {0.01, 1000})
+      .doc("depth farther than this is not integrated (m)");
+  p.optional("clear_beyond_range", c.tsdf.clear_beyond_range)
+      .doc("+inf pixels (no return) clear their ray up to max_range_m − μ; off: skipped like NaN");
+  p.choice("weight", c.tsdf.weight, tsdf::kTsdfWeightNames)
+      .doc("integration weight: inverse_square (1/z²) or constant (1)");
+  p.optional("tile_px", c.tsdf.tile_px, {1, 64})
+      .doc("block selection: depth tiles of tile_px² pixels");
   if (auto problem = c.tsdf.validate(); !problem.empty()) p.report("voxel_m", problem);
-  p.choice("mode", c.mode, kMapModeNames);
-  p.optional("patch_frames", c.patch_frames, {1, 100000});
-  p.optional("patch_distance_m", c.patch_distance_m, {0, 1e6});
-  p.optional("snapshot_every", c.snapshot_every, {1, 100000});
-  p.optional("request_delay_s", c.request_delay_s, {0, 3600});
-  p.optional("request_retry_s", c.request_retry_s, {0.01, 3600});
-  p.optional("compression_level", c.compression_level, {1, 19});
-  p.optional("depth_queue_depth", c.depth_queue_depth, {1, 1000});
-  p.optional("depth_topic", c.depth_topic);
+  p.choice("mode", c.mode, kMapModeNames)
+      .doc(
+          "single (one robot, one map), centralized (a station maps every robot's depth) or "
+          "distributed (patches shared between robots)");
+  p.optional("patch_frames", c.patch_frames, {1, 100000})
+      .doc("distributed: depth images per patch");
+  p.optional("patch_distance_m", c.patch_distance_m, {0, 1e6})
+      .doc("distributed: a patch is also complete after this much travel (m; 0: off)");
+  p.optional("snapshot_every", c.snapshot_every, {1, 100000})
+      .doc("publish a map snapshot every N integrated images");
+  p.optional("publish_map", c.publish_map)
+      .doc("false: no map topic (a map only its mesh is kept of)");
+  p.optional("request_delay_s", c.request_delay_s, {0, 3600})
+      .doc("distributed: a teammate's listed patch missing this long is requested (s)");
+  p.optional("request_retry_s", c.request_retry_s, {0.01, 3600})
+      .doc("distributed: and requested again this often (s)");
+  p.optional("compression_level", c.compression_level, {1, 19})
+      .doc("zstd level of the patch payload");
+  p.optional("depth_queue_depth", c.depth_queue_depth, {1, 1000})
+      .doc("queue depth of the depth subscription(s)");
+  p.optional("depth_topic", c.depth_topic)
+      .doc(
+          "the depth topic, relative: the robot's, or each robot's /<ns>/<depth_topic> "
+          "(centralized); e.g. depth_masked");
   if (c.depth_topic.empty() || c.depth_topic.front() == '/')
     p.report("depth_topic", "'" + c.depth_topic + "' must be a relative topic name (e.g. depth)");
-  p.optional("mesh_path", c.mesh_path);
-  p.choice("mesh_colour", c.mesh_colour, kMeshColourNames);
-  p.optional("mesh_min_weight", c.mesh_min_weight, {0, 1e6});
-  p.optional("octomap_path", c.octomap_path);
-  p.optional("align_teammates", c.align_teammates);
+  p.optional("mesh_path", c.mesh_path)
+      .doc(
+          "the global estimate's mesh (binary PLY), written when the component stops (empty: not "
+          "written)");
+  p.choice("mesh_colour", c.mesh_colour, kMeshColourNames)
+      .doc("mesh colours: owner (each robot's patches in its colour) or none");
+  p.optional("mesh_min_weight", c.mesh_min_weight, {0, 1e6})
+      .doc("only voxels with at least this weight are meshed (0: every observed voxel)");
+  p.optional("octomap_path", c.octomap_path)
+      .doc(
+          "known space as an OctoMap (.bt), written when the component stops (empty: not written)");
+  p.optional("align_teammates", c.align_teammates)
+      .doc(
+          "distributed: register teammates' patches onto this robot's to correct drift "
+          "(docs/mapping.md)");
   return c;
 }
 
@@ -76,7 +108,7 @@ TsdfMapper::TsdfMapper(ComponentContext context, Config config)
 TsdfMapper::~TsdfMapper() = default;
 
 Result<void, std::string> TsdfMapper::on_configure() {
-  map_ = create_publisher<msg::MapUpdate>("map", {.pool_size = 4});
+  if (config_.publish_map) map_ = create_publisher<msg::MapUpdate>("map", {.pool_size = 4});
   const auto on_depth_sample = [this](Sample<msg::DepthImage>&& s) { on_depth(*s); };
   if (config_.mode == MapMode::kCentralized) {
     if (team().empty())
@@ -288,6 +320,7 @@ std::shared_ptr<const MapSnapshot> TsdfMapper::snapshot() const {
 }
 
 void TsdfMapper::publish_snapshot(int64_t stamp_ns) {
+  if (!map_.valid()) return;
   auto loan = map_.loan();
   if (!loan) return;
   (*loan)->header.stamp_ns = stamp_ns;

@@ -117,6 +117,7 @@ class TsdfMapper final : public Component {
     uint32_t patch_frames = 5;        // depth images per patch (thesis 4.6: 5)
     double patch_distance_m = 0;      // or this much travel (0: off)
     uint32_t snapshot_every = 1;      // publish a snapshot every N integrated images
+    bool publish_map = true;          // false: no map topic (a map only its mesh is kept of)
     double request_delay_s = 1.0;     // a listed patch missing this long is requested
     double request_retry_s = 2.0;     // and requested again this often
     int compression_level = 3;        // zstd level of the patch payload

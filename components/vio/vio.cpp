@@ -10,61 +10,106 @@
 
 namespace scancrew::vio {
 
-Vio::Config Vio::read_config(ParamReader& p) {
-  Config c;
-  StereoOdometryConfig& o = c.odometry;
+namespace {
+
+// The corners, KLT, stereo matching and PnP keys of read_config().
+void read_tracking(ParamReader& p, StereoOdometryConfig& o) {
   // corners and KLT
-  p.optional("max_features", o.features.max_features, {8, 5000});
-  p.optional("grid_cols", o.features.grid_cols, {1, 64});
-  p.optional("grid_rows", o.features.grid_rows, {1, 64});
-  p.optional("corner_quality", o.features.quality_level, {1e-5, 0.5});
-  p.optional("min_corner_distance_px", o.features.min_distance_px, {1, 100});
-  p.optional("border_px", o.features.border_px, {0, 100});
-  p.optional("klt_window_px", o.features.klt_window_px, {5, 61});
-  p.optional("klt_levels", o.features.klt_levels, {0, 6});
-  p.optional("klt_iterations", o.features.klt_iterations, {1, 200});
-  p.optional("klt_max_error", o.features.klt_max_error, {0.1, 255});
+  p.optional("max_features", o.features.max_features, {8, 5000})
+      .doc("corners per keyframe, kept tracks included");
+  p.optional("grid_cols", o.features.grid_cols, {1, 64})
+      .doc("detection buckets: columns (at most max_features/cells corners per cell first)");
+  p.optional("grid_rows", o.features.grid_rows, {1, 64}).doc("detection buckets: rows");
+  p.optional("corner_quality", o.features.quality_level, {1e-5, 0.5})
+      .doc("Shi-Tomasi threshold, relative to the strongest corner");
+  p.optional("min_corner_distance_px", o.features.min_distance_px, {1, 100})
+      .doc("between corners and from kept tracks (px)");
+  p.optional("border_px", o.features.border_px, {0, 100})
+      .doc("no corner nearer the image border (px)");
+  p.optional("klt_window_px", o.features.klt_window_px, {5, 61}).doc("KLT window (odd, px)");
+  p.optional("klt_levels", o.features.klt_levels, {0, 6})
+      .doc("KLT pyramid levels above full resolution");
+  p.optional("klt_iterations", o.features.klt_iterations, {1, 200}).doc("KLT iterations per level");
+  p.optional("klt_max_error", o.features.klt_max_error, {0.1, 255})
+      .doc("KLT: mean absolute patch difference accepted (grey levels)");
   if (o.features.klt_window_px % 2 == 0) p.report("klt_window_px", "must be odd");
   // stereo matching
-  p.optional("stereo_window_px", o.stereo.window_px, {3, 31});
-  p.optional("stereo_window_rows", o.stereo.window_rows, {1, 31});
-  p.optional("min_depth_m", o.stereo.min_depth_m, {0.01, 100});
-  p.optional("max_depth_m", o.stereo.max_depth_m, {0.02, 1000});
-  p.optional("stereo_uniqueness_ratio", o.stereo.uniqueness_ratio, {0.1, 1.0});
-  p.optional("stereo_klt_refine", o.stereo.klt_refine);
-  p.optional("stereo_max_row_error_px", o.stereo.max_row_error_px, {0.05, 5});
+  p.optional("stereo_window_px", o.stereo.window_px, {3, 31}).doc("stereo block width (odd, px)");
+  p.optional("stereo_window_rows", o.stereo.window_rows, {1, 31})
+      .doc("stereo block height (odd, px)");
+  p.optional("min_depth_m", o.stereo.min_depth_m, {0.01, 100})
+      .doc("nearest depth triangulated (m; disparity search range)");
+  p.optional("max_depth_m", o.stereo.max_depth_m, {0.02, 1000})
+      .doc("farthest depth triangulated (m)");
+  p.optional("stereo_uniqueness_ratio", o.stereo.uniqueness_ratio, {0.1, 1.0})
+      .doc("best SSD < ratio × best SSD more than 2 px away");
+  p.optional("stereo_klt_refine", o.stereo.klt_refine).doc("sub-pixel disparity by KLT left→right");
+  p.optional("stereo_max_row_error_px", o.stereo.max_row_error_px, {0.05, 5})
+      .doc("KLT refinement must stay this close to the row (px)");
   if (o.stereo.window_px % 2 == 0) p.report("stereo_window_px", "must be odd");
   if (o.stereo.window_rows % 2 == 0) p.report("stereo_window_rows", "must be odd");
   if (o.stereo.min_depth_m >= o.stereo.max_depth_m)
     p.report("max_depth_m", "must be greater than min_depth_m");
   // pose
-  p.optional("ransac_reprojection_px", o.pose.ransac_reprojection_px, {0.1, 20});
-  p.optional("ransac_iterations", o.pose.ransac_iterations, {1, 10000});
-  p.optional("ransac_confidence", o.pose.ransac_confidence, {0.5, 0.99999});
-  p.choice("pnp_solver", o.pose.solver, kPnpSolverNames);
-  p.optional("pnp_refine", o.pose.refine);
-  p.optional("min_inliers", o.pose.min_inliers, {4, 1000});
+  p.optional("ransac_reprojection_px", o.pose.ransac_reprojection_px, {0.1, 20})
+      .doc("PnP inlier threshold (px)");
+  p.optional("ransac_iterations", o.pose.ransac_iterations, {1, 10000})
+      .doc("PnP RANSAC iterations");
+  p.optional("ransac_confidence", o.pose.ransac_confidence, {0.5, 0.99999})
+      .doc("PnP RANSAC confidence");
+  p.choice("pnp_solver", o.pose.solver, kPnpSolverNames).doc("minimal solver inside RANSAC");
+  p.optional("pnp_refine", o.pose.refine).doc("LM refinement on the inliers");
+  p.optional("min_inliers", o.pose.min_inliers, {4, 1000}).doc("fewer PnP inliers: tracking lost");
+}
+
+}  // namespace
+
+Vio::Config Vio::read_config(ParamReader& p) {
+  Config c;
+  StereoOdometryConfig& o = c.odometry;
+  read_tracking(p, o);
   // keyframes and priors
-  p.optional("keyframe_min_inliers", o.keyframe_min_inliers, {4, 5000});
-  p.optional("keyframe_min_inlier_ratio", o.keyframe_min_inlier_ratio, {0, 1});
-  p.optional("min_keyframe_points", o.min_keyframe_points, {4, 5000});
-  p.optional("rescue_keyframe_min_points", o.rescue_keyframe_min_points, {4, 5000});
-  p.optional("gyro_prior", o.gyro_prior);
-  p.optional("max_gyro_disagreement_deg", o.max_gyro_disagreement_deg, {0.1, 180});
-  p.optional("gravity_time_constant_s", o.gravity_time_constant_s, {0, 1e6});
-  p.optional("gravity_gate_mps2", o.gravity_gate_mps2, {0, 10});
-  p.optional("max_coast_s", o.max_coast_s, {0, 10});
-  p.optional("coast_quality", o.coast_quality, {0.01, 1});
-  p.optional("coast_velocity_sigma_mps", o.coast_velocity_sigma_mps, {0, 100});
-  p.optional("coast_gyro_sigma_radps", o.coast_gyro_sigma_radps, {0, 10});
-  p.optional("start_sigma_m", o.start_sigma_m, {1e-6, 100});
-  p.optional("start_sigma_rad", o.start_sigma_rad, {1e-6, 10});
-  p.optional("min_pixel_sigma_px", o.pose.min_pixel_sigma_px, {0.01, 10});
-  p.optional("gravity_align", c.gravity_align);
-  p.optional("gravity_window_s", c.gravity_window_s, {0.001, 60});
-  p.optional("imu_max_gap_s", c.imu_max_gap_s, {0.001, 10});
-  p.optional("stereo_queue_depth", c.stereo_queue_depth, {1, 64});
-  p.optional("imu_queue_depth", c.imu_queue_depth, {1, 4096});
+  p.optional("keyframe_min_inliers", o.keyframe_min_inliers, {4, 5000})
+      .doc("fewer inliers: new keyframe (≥ min_inliers)");
+  p.optional("keyframe_min_inlier_ratio", o.keyframe_min_inlier_ratio, {0, 1})
+      .doc("or fewer than this share of the keyframe's points");
+  p.optional("min_keyframe_points", o.min_keyframe_points, {4, 5000})
+      .doc("a keyframe needs this many triangulated corners");
+  p.optional("rescue_keyframe_min_points", o.rescue_keyframe_min_points, {4, 5000})
+      .doc("or this many when made while coasting with too few tracks");
+  p.optional("gyro_prior", o.gyro_prior)
+      .doc("gyro rotation for the prediction and the consistency check");
+  p.optional("max_gyro_disagreement_deg", o.max_gyro_disagreement_deg, {0.1, 180})
+      .doc("PnP vs gyro rotation over one interval (degrees)");
+  p.optional("gravity_time_constant_s", o.gravity_time_constant_s, {0, 1e6})
+      .doc("roll/pitch correction toward the accelerometer (s; 0: off)");
+  p.optional("gravity_gate_mps2", o.gravity_gate_mps2, {0, 10})
+      .doc("only intervals whose gravity estimate is this close to g (m/s²)");
+  p.optional("max_coast_s", o.max_coast_s, {0, 10})
+      .doc(
+          "failed frames are coasted through for this long after the last tracked one (s; 0: every "
+          "failed frame a loss)");
+  p.optional("coast_quality", o.coast_quality, {0.01, 1})
+      .doc("tracking_quality of a coasted frame");
+  p.optional("coast_velocity_sigma_mps", o.coast_velocity_sigma_mps, {0, 100})
+      .doc("constant-velocity error while coasting, for the covariance (m/s)");
+  p.optional("coast_gyro_sigma_radps", o.coast_gyro_sigma_radps, {0, 10})
+      .doc("gyro rate error while coasting, for the covariance (rad/s)");
+  p.optional("start_sigma_m", o.start_sigma_m, {1e-6, 100})
+      .doc("the start pose's position standard deviation (m)");
+  p.optional("start_sigma_rad", o.start_sigma_rad, {1e-6, 10})
+      .doc("the start pose's rotation standard deviation (rad)");
+  p.optional("min_pixel_sigma_px", o.pose.min_pixel_sigma_px, {0.01, 10})
+      .doc("floor of σ in the PnP covariance (px)");
+  p.optional("gravity_align", c.gravity_align)
+      .doc("roll/pitch at start from the accelerometer (else level)");
+  p.optional("gravity_window_s", c.gravity_window_s, {0.001, 60})
+      .doc("accelerometer samples averaged for it (s)");
+  p.optional("imu_max_gap_s", c.imu_max_gap_s, {0.001, 10})
+      .doc("longest IMU gap the gyro prior bridges (s; longer: no prior)");
+  p.optional("stereo_queue_depth", c.stereo_queue_depth, {1, 64})
+      .doc("stereo subscription queue depth");
+  p.optional("imu_queue_depth", c.imu_queue_depth, {1, 4096}).doc("IMU subscription queue depth");
   if (o.keyframe_min_inliers < o.pose.min_inliers)
     p.report("keyframe_min_inliers", "must be at least min_inliers");
   return c;

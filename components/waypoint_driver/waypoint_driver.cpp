@@ -13,16 +13,19 @@ namespace scancrew::waypoint_driver {
 
 WaypointDriver::Config WaypointDriver::read_config(ParamReader& p) {
   Config c;
-  p.optional_list("waypoints_m", c.waypoints_m, 0, {-1e6, 1e6});
+  p.optional_list("waypoints_m", c.waypoints_m, 0, {-1e6, 1e6})
+      .doc("x, y, z triples (world frame, m); z unused for ground robots");
   if (c.waypoints_m.empty() || c.waypoints_m.size() % 3 != 0)
     p.report("waypoints_m", "needs x, y, z triples, at least one");
-  p.optional("loop", c.loop);
-  p.optional("speed_mps", c.speed_mps, {0.01, 20});
-  p.optional("yaw_gain", c.yaw_gain, {0.01, 100});
-  p.optional("max_yaw_rate_radps", c.max_yaw_rate_radps, {0.01, 10});
-  p.optional("arrive_radius_m", c.arrive_radius_m, {0.01, 100});
-  p.optional("rate_hz", c.rate_hz, {0.1, 1000});
-  p.optional("stop_after_m", c.stop_after_m, {0, 1e7});
+  p.optional("loop", c.loop).doc("drive the waypoints again and again");
+  p.optional("speed_mps", c.speed_mps, {0.01, 20}).doc("driving speed (m/s)");
+  p.optional("yaw_gain", c.yaw_gain, {0.01, 100}).doc("yaw rate per heading error (1/s)");
+  p.optional("max_yaw_rate_radps", c.max_yaw_rate_radps, {0.01, 10}).doc("yaw rate limit (rad/s)");
+  p.optional("arrive_radius_m", c.arrive_radius_m, {0.01, 100})
+      .doc("a waypoint this near is reached (m)");
+  p.optional("rate_hz", c.rate_hz, {0.1, 1000}).doc("command rate (Hz)");
+  p.optional("stop_after_m", c.stop_after_m, {0, 1e7})
+      .doc("stop after driving this far (m; 0: never)");
   return c;
 }
 

@@ -51,7 +51,17 @@ Result<OctomapStats, std::string> write_octomap(const MapSnapshot& snap, const s
 
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) return make_unexpected("cannot open " + path + ": " + system_error_text());
-  if (!tree.writeBinary(out) || !out.flush())
+  // OcTree::writeBinary(), but for its last line: the library's writer prints " done." on
+  // stderr (a debug print Debian's build leaves on). The header is its
+  // AbstractOccupancyOcTree::writeBinaryConst's, byte for byte.
+  tree.toMaxLikelihood();
+  tree.prune();
+  out << "# Octomap OcTree binary file\n# (feel free to add / change comments, but leave the "
+         "first line as it is!)\n#\nid "
+      << tree.getTreeType() << "\nsize " << tree.size() << "\nres " << tree.getResolution()
+      << "\ndata\n";
+  tree.writeBinaryData(out);
+  if (!out.good() || !out.flush())
     return make_unexpected("cannot write " + path + ": " + system_error_text());
   stats.bytes = static_cast<size_t>(out.tellp());
   out.close();

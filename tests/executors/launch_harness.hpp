@@ -29,6 +29,8 @@ class Named final : public Component {
   }
   Named(ComponentContext c, Config config) : Component(std::move(c)), config_(std::move(config)) {}
   const Config& config() const { return config_; }
+  // its label as an input file's path (Component::input_path)
+  std::string label_path() const { return input_path("label", config_.label); }
 
  private:
   Result<void, std::string> on_configure() override { return {}; }

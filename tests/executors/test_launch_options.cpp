@@ -128,6 +128,33 @@ components:
             (std::vector<std::string>{"runs/arena_team/mesh_r1.ply", "runs/arena_team/paths.csv"}));
 }
 
+// A relative input path is relative to the launch file's directory, one given with --set to
+// the working directory, an absolute one is kept (Component::input_path); a launch without a
+// directory (a label) reads from the working directory
+TEST(Launch, InputPathsAreTheLaunchFilesButSetOnesTheWorkingDirectorys) {
+  const std::string text = R"(
+components:
+  - {name: a, type: test_named, params: {label: ../scenes/x.yaml}}
+  - {name: b, type: test_named, params: {label: scenes/x.yaml}}
+  - {name: c, type: test_named, params: {label: /abs/x.yaml}}
+)";
+  const auto paths_of = [](const Launch& launch) {
+    std::vector<std::string> paths;
+    for (const auto& c : launch.components())
+      if (const auto* n = dynamic_cast<const Named*>(c.get())) paths.push_back(n->label_path());
+    return paths;
+  };
+  auto in_dir =
+      Launch::from_string(text, "cfg/missions/m.yaml", {.overrides = {"b.label=my/x.yaml"}});
+  ASSERT_TRUE(in_dir) << in_dir.error().front();
+  EXPECT_EQ(paths_of(**in_dir),
+            (std::vector<std::string>{"cfg/scenes/x.yaml", "my/x.yaml", "/abs/x.yaml"}));
+  auto no_dir = Launch::from_string(text, "m.yaml");
+  ASSERT_TRUE(no_dir) << no_dir.error().front();
+  EXPECT_EQ(paths_of(**no_dir),
+            (std::vector<std::string>{"../scenes/x.yaml", "scenes/x.yaml", "/abs/x.yaml"}));
+}
+
 TEST(Launch, SetOverridesAComponentParameterOrARunSetting) {
   const std::string text = R"(
 clock: sim
