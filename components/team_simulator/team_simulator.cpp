@@ -71,6 +71,15 @@ TeamSimulator::Config TeamSimulator::read_config(ParamReader& p) {
       .doc("accelerometer white noise, standard deviation per sample (m/s²)");
   p.optional("imu_gyro_noise_radps", c.imu.gyro_noise_radps, {0, 10})
       .doc("gyro white noise, standard deviation per sample (rad/s)");
+  p.optional("publish_wheel_odom", c.publish_wheel_odom)
+      .doc("publish each ground robot's wheel odometry (wheel_odom)");
+  p.optional("wheel_odom_rate_hz", c.wheel.rate_hz, {0.1, 2000}).doc("wheel odometry rate (Hz)");
+  p.optional("wheel_scale_sigma", c.wheel.scale_sigma, {0, 0.5})
+      .doc("standard deviation of the per-robot wheel scale error");
+  p.optional("wheel_speed_noise_mps", c.wheel.speed_noise_mps, {0, 10})
+      .doc("wheel odometry speed white noise per sample, each axis (m/s)");
+  p.optional("wheel_yaw_rate_noise_radps", c.wheel.yaw_rate_noise_radps, {0, 10})
+      .doc("wheel odometry yaw rate white noise per sample (rad/s)");
   p.optional("ground_speed_mps", c.ground_speed_mps, {0.01, 10})
       .doc("ground robots' nominal speed (m/s; table 5.3)");
   p.optional("multirotor_speed_mps", c.multirotor_speed_mps, {0.01, 20})
@@ -134,6 +143,13 @@ Result<void, std::string> TeamSimulator::on_configure() {
       p.depth_gt = create_publisher<msg::DepthImage>(ns + "depth_gt", {.pool_size = 4});
     if (config_.publish_imu) p.imu = create_publisher<msg::Imu>(ns + "imu", {.pool_size = 16});
     p.pose_gt = create_publisher<msg::Odometry>(ns + "pose_gt", {.pool_size = 8});
+    if (config_.publish_wheel_odom && sim_->robot(i).kind == robot::RobotKind::kGround) {
+      p.wheel_odom = create_publisher<msg::Odometry>(ns + "wheel_odom", {.pool_size = 16});
+      p.wheel_odom.set_robot_id(sim_->robot(i).id);
+      // a stream of its own per robot: the other noise is the same with or without it
+      p.wheel.emplace(config_.wheel, config_.seed * 7'919u + sim_->robot(i).id + 0x5eedu,
+                      sim_->body_pose(i));
+    }
     // the simulator publishes on behalf of each robot: its messages carry the robot's id
     const uint32_t id = sim_->robot(i).id;
     if (p.stereo.valid()) p.stereo.set_robot_id(id);
@@ -200,6 +216,20 @@ void TeamSimulator::tick() {
           (**loan).header.stamp_ns = stamp;
           (void)p.imu.publish(std::move(*loan));
         }
+    }
+    if (p.wheel && stamp >= p.next_wheel_ns) {
+      p.next_wheel_ns = next(p.next_wheel_ns, config_.wheel.rate_hz);
+      const msg::Pose3 pose = sim_->body_pose(i);
+      const msg::Quat& q = pose.orientation;
+      const double yaw =
+          std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+      // measured whether or not a buffer is free: the dead reckoning goes on
+      const msg::Odometry reading =
+          p.wheel->measure(stamp, sim_->body_velocity(i), yaw, sim_->body_yaw_rate(i));
+      if (auto loan = p.wheel_odom.loan()) {
+        **loan = reading;
+        (void)p.wheel_odom.publish(std::move(*loan));
+      }
     }
     if (stamp >= p.next_frame_ns) {
       p.next_frame_ns = next(p.next_frame_ns, robot.camera.rate_hz);

@@ -20,10 +20,12 @@
 // Not deterministic: the threads' timing decides when commands reach the physics.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "components/team_simulator/wheel_odometry.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
 #include "interfaces/nav_msgs.hpp"
@@ -51,6 +53,9 @@ class TeamSimulator final : public Component {
     uint64_t seed = 1;
     bool publish_stereo = true, publish_depth = true, publish_depth_gt = false;
     bool publish_imu = true;  // false: no imu topics (a mission without odometry reads none)
+    // each ground robot's wheel odometry (wheel_odometry.hpp) on `wheel_odom`
+    bool publish_wheel_odom = false;
+    WheelOdometryConfig wheel;
     sim::CameraSpec ground_camera, multirotor_camera;
     sim::DepthNoiseSpec depth_noise;
     sim::ImuSpec imu;
@@ -71,8 +76,9 @@ class TeamSimulator final : public Component {
     Publisher<msg::StereoFrame> stereo;
     Publisher<msg::DepthImage> depth, depth_gt;
     Publisher<msg::Imu> imu;
-    Publisher<msg::Odometry> pose_gt;
-    int64_t next_frame_ns = 0, next_imu_ns = 0;
+    Publisher<msg::Odometry> pose_gt, wheel_odom;
+    std::optional<WheelOdometry> wheel;
+    int64_t next_frame_ns = 0, next_imu_ns = 0, next_wheel_ns = 0;
     int64_t last_command_ns = -1;  // -1: none yet, or stopped by the watchdog
   };
 

@@ -32,6 +32,8 @@ std::string_view to_string(InputError error) {
       return "stamp unset or not increasing";
     case InputError::kBadImu:
       return "non-finite IMU sample";
+    case InputError::kBadWheelOdom:
+      return "NaN or inf in a wheel-odometry velocity";
   }
   return "unknown";
 }

@@ -21,8 +21,9 @@ enum class InputError : uint8_t {
   kBadExtrinsics,       // T_body_cam not finite, or not a unit quaternion
   kStampNotIncreasing,  // capture time unset or not after the previous frame's
   kBadImu,              // NaN or inf in an IMU sample, or an unset stamp
+  kBadWheelOdom,        // NaN or inf in a wheel-odometry velocity
 };
-inline constexpr size_t kInputErrorCount = 9;
+inline constexpr size_t kInputErrorCount = 10;
 std::string_view to_string(InputError error);
 
 // Per-reason counters.

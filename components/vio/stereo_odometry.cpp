@@ -59,12 +59,10 @@ struct StereoOdometry::Impl {
                     const Eigen::Isometry3d& T_prevbody_body, double dt_s,
                     Eigen::Isometry3d& T_world_body_now);
   // The body's motion since the last frame, as predicted for KLT's starting guess.
-  Eigen::Isometry3d predict_motion(int64_t dt_ns,
-                                   const std::optional<Eigen::Quaterniond>& gyro) const;
+  Eigen::Isometry3d predict_motion(int64_t dt_ns, const ImuInterval& imu) const;
   // The coasted motion since the last frame: the gyro's rotation (else none) and the
-  // smoothed body velocity over dt.
-  Eigen::Isometry3d coast_motion(int64_t dt_ns,
-                                 const std::optional<Eigen::Quaterniond>& gyro) const;
+  // wheels' velocity (else the smoothed body velocity) over dt.
+  Eigen::Isometry3d coast_motion(int64_t dt_ns, const ImuInterval& imu) const;
   // Tracks the keyframe's points into this frame and solves its pose: kNone, else why not.
   LossReason track_pose(const StereoInput& frame, TrackingResult& result);
   // Takes a pose that passed the checks; a new keyframe when too few inliers are left.
@@ -80,7 +78,8 @@ struct StereoOdometry::Impl {
   // Drops the keyframe and makes one from this frame at T_world_new if the image allows.
   void restart(const StereoInput& frame, const Eigen::Isometry3d& T_world_new,
                TrackingResult& result);
-  // The covariance of the last tracked frame grown over the time since it.
+  // The covariance of the last tracked frame grown over the time since it (at the wheels'
+  // velocity error when they drove the coasting).
   Covariance6 coasted_covariance(int64_t stamp_ns) const;
 
   StereoOdometryConfig config;
@@ -91,6 +90,7 @@ struct StereoOdometry::Impl {
   Tracks tracks;
 
   bool started = false, tracking = false;
+  bool on_wheels = false;  // the current frame's interval has wheel odometry
   Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();  // latest estimate
   // constant-velocity model: the body motion between the last two tracked frames
   Eigen::Isometry3d T_prevbody_body = Eigen::Isometry3d::Identity();
@@ -183,22 +183,32 @@ void StereoOdometry::Impl::correct_tilt(const Eigen::Vector3d& specific_force_mp
   keyframe.T_world_cam = correction * keyframe.T_world_cam;
 }
 
-Eigen::Isometry3d StereoOdometry::Impl::predict_motion(
-    int64_t dt_ns, const std::optional<Eigen::Quaterniond>& gyro) const {
-  // predicted pose: gyro rotation (or the last motion's), constant-velocity translation
+Eigen::Isometry3d StereoOdometry::Impl::predict_motion(int64_t dt_ns,
+                                                       const ImuInterval& imu) const {
+  // predicted pose: gyro rotation (or the last motion's), the wheels' translation (or the
+  // last motion's: constant velocity)
   Eigen::Isometry3d T_prev_pred = Eigen::Isometry3d::Identity();
   if (have_motion && last_dt_ns > 0) {
     T_prev_pred = T_prevbody_body;
     T_prev_pred.translation() *= static_cast<double>(dt_ns) / static_cast<double>(last_dt_ns);
   }
+  const std::optional<Eigen::Quaterniond> gyro =
+      config.gyro_prior ? imu.q_prevbody_body : std::nullopt;
   if (gyro) T_prev_pred.linear() = gyro->toRotationMatrix();
+  if (imu.wheel_velocity_mps)
+    T_prev_pred.translation() = *imu.wheel_velocity_mps * (static_cast<double>(dt_ns) * 1e-9);
   return T_prev_pred;
 }
 
-Eigen::Isometry3d StereoOdometry::Impl::coast_motion(
-    int64_t dt_ns, const std::optional<Eigen::Quaterniond>& gyro) const {
+Eigen::Isometry3d StereoOdometry::Impl::coast_motion(int64_t dt_ns, const ImuInterval& imu) const {
   Eigen::Isometry3d T_prev_pred = Eigen::Isometry3d::Identity();
-  if (have_motion) T_prev_pred.translation() = v_body_mps * (static_cast<double>(dt_ns) * 1e-9);
+  const double dt_s = static_cast<double>(dt_ns) * 1e-9;
+  if (imu.wheel_velocity_mps)
+    T_prev_pred.translation() = *imu.wheel_velocity_mps * dt_s;
+  else if (have_motion)
+    T_prev_pred.translation() = v_body_mps * dt_s;
+  const std::optional<Eigen::Quaterniond> gyro =
+      config.gyro_prior ? imu.q_prevbody_body : std::nullopt;
   if (gyro) T_prev_pred.linear() = gyro->toRotationMatrix();
   return T_prev_pred;
 }
@@ -261,8 +271,9 @@ void StereoOdometry::Impl::accept(const StereoInput& frame,
 Covariance6 StereoOdometry::Impl::coasted_covariance(int64_t stamp_ns) const {
   if (!have_good) return cov_good;
   const double coast_s = static_cast<double>(stamp_ns - last_good_ns) * 1e-9;
-  return cov_good +
-         coast_growth(coast_s, config.coast_velocity_sigma_mps, config.coast_gyro_sigma_radps);
+  const double velocity_sigma =
+      on_wheels ? config.coast_wheel_sigma_mps : config.coast_velocity_sigma_mps;
+  return cov_good + coast_growth(coast_s, velocity_sigma, config.coast_gyro_sigma_radps);
 }
 
 void StereoOdometry::Impl::coast(const StereoInput& frame, LossReason why,
@@ -355,10 +366,15 @@ TrackingResult StereoOdometry::process(const StereoInput& frame, const ImuInterv
   m.last_stamp_ns = frame.stamp_ns;
   m.have_stamp = true;
   const Eigen::Isometry3d T_world_last = m.T_world_body;
+  m.on_wheels = imu.wheel_velocity_mps.has_value();
 
-  // the last pose turned by the gyro: where a lost or re-initialised robot is assumed
+  // the last pose turned by the gyro (and moved by the wheels): where a lost or
+  // re-initialised robot is assumed
   Eigen::Isometry3d T_world_turned = T_world_last;
   if (gyro) T_world_turned.linear() = T_world_last.linear() * gyro->toRotationMatrix();
+  if (imu.wheel_velocity_mps && dt_ns > 0)
+    T_world_turned.translation() +=
+        T_world_last.linear() * (*imu.wheel_velocity_mps * (static_cast<double>(dt_ns) * 1e-9));
 
   if (!m.tracking) {
     m.restart(frame, T_world_turned, result);
@@ -372,7 +388,7 @@ TrackingResult StereoOdometry::process(const StereoInput& frame, const ImuInterv
     return result;
   }
 
-  const Eigen::Isometry3d T_world_pred = T_world_last * m.predict_motion(dt_ns, gyro);
+  const Eigen::Isometry3d T_world_pred = T_world_last * m.predict_motion(dt_ns, imu);
   m.predict_pixels(frame, T_world_pred);
   LossReason failure = m.track_pose(frame, result);
   Eigen::Isometry3d T_world_new = T_world_pred;
@@ -387,11 +403,12 @@ TrackingResult StereoOdometry::process(const StereoInput& frame, const ImuInterv
   }
   if (failure != LossReason::kNone) {
     // coast while the last tracked frame is recent enough, else a loss
-    const auto max_coast_ns = static_cast<int64_t>(c.max_coast_s * 1e9);
+    const double max_coast_s = m.on_wheels ? c.max_wheel_coast_s : c.max_coast_s;
+    const auto max_coast_ns = static_cast<int64_t>(max_coast_s * 1e9);
     if (frame.stamp_ns - m.last_good_ns > max_coast_ns)
       m.lose(frame, failure, T_world_turned, result);
     else
-      m.coast(frame, failure, T_world_last * m.coast_motion(dt_ns, gyro), result);
+      m.coast(frame, failure, T_world_last * m.coast_motion(dt_ns, imu), result);
     return result;
   }
 

@@ -24,6 +24,11 @@
 //              the frame is reported lost (quality 0) and a new keyframe is made at the last
 //              (predicted) pose turned by the gyro; if the image cannot make one (black,
 //              textureless), each later frame tries again.
+//   wheels:    a ground robot's wheel odometry (ImuInterval::wheel_velocity_mps), when
+//              given, replaces the constant-velocity translation in the prediction, the
+//              coasting and a lost robot's pose, and lets it coast max_wheel_coast_s
+//              (gyro rotation + wheel translation: dead reckoning through images without
+//              corners, as a real ground robot's odometry does).
 //   covariance: each frame's pose covariance (pose_covariance.hpp): the PnP estimate's on
 //              top of the keyframe's, accumulated across keyframes, grown while coasting.
 //
@@ -68,6 +73,10 @@ struct StereoOdometryConfig {
   double coast_quality = 0.5;             // tracking quality published while coasting, (0, 1]
   double coast_velocity_sigma_mps = 0.2;  // constant-velocity error, for the covariance
   double coast_gyro_sigma_radps = 0.01;   // gyro rate error, for the covariance
+  // with wheel odometry: how long a failure coasts before it is a loss, and the wheel
+  // velocity's error for the covariance (a 2 % scale error at 0.5 m/s, plus noise)
+  double max_wheel_coast_s = 5.0;
+  double coast_wheel_sigma_mps = 0.02;
   double start_sigma_m = 0.001, start_sigma_rad = 0.001;  // the start pose's uncertainty
 };
 
@@ -75,6 +84,8 @@ struct StereoOdometryConfig {
 struct ImuInterval {
   std::optional<Eigen::Quaterniond> q_prevbody_body;        // gyro rotation (nullopt: no IMU)
   std::optional<Eigen::Vector3d> mean_specific_force_mps2;  // accelerometer mean
+  // the wheels' mean body-frame velocity over the interval (nullopt: no wheel odometry)
+  std::optional<Eigen::Vector3d> wheel_velocity_mps;
 };
 
 // A checked stereo frame (frame_check.hpp): images of the intrinsics' size.

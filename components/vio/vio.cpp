@@ -110,6 +110,12 @@ Vio::Config Vio::read_config(ParamReader& p) {
   p.optional("stereo_queue_depth", c.stereo_queue_depth, {1, 64})
       .doc("stereo subscription queue depth");
   p.optional("imu_queue_depth", c.imu_queue_depth, {1, 4096}).doc("IMU subscription queue depth");
+  p.optional("use_wheel_odom", c.use_wheel_odom)
+      .doc("a ground robot reads its base's wheel_odom (motion prior, coasting's translation)");
+  p.optional("max_wheel_coast_s", o.max_wheel_coast_s, {0, 60})
+      .doc("with wheel odometry: how long a failure coasts before it is a loss (s)");
+  p.optional("coast_wheel_sigma_mps", o.coast_wheel_sigma_mps, {0, 100})
+      .doc("with wheel odometry: the wheel velocity's error, for the covariance (m/s)");
   if (o.keyframe_min_inliers < o.pose.min_inliers)
     p.report("keyframe_min_inliers", "must be at least min_inliers");
   return c;
@@ -141,6 +147,10 @@ Result<void, std::string> Vio::on_configure() {
         it->kind == robot::RobotKind::kGround;  // a ground robot's body frame is on the floor
     start_position_m_ = {it->start_x_m, it->start_y_m, ground ? 0.0 : it->start_z_m};
     start_yaw_rad_ = it->start_yaw_rad;
+    // a multirotor has no wheels: it reads none even when the team's launch asks
+    if (config_.use_wheel_odom && ground)
+      create_subscription<msg::Odometry>("wheel_odom", {.depth = 64},
+                                         [this](Sample<msg::Odometry>&& s) { on_wheel_odom(*s); });
   } else {
     SCANCREW_LOG_INFO("%s: no robots: section, odometry starts at the origin",
                       qualified_name().c_str());
@@ -162,6 +172,13 @@ void Vio::on_imu(const msg::Imu& imu) {
   if (!imu_.add(imu.header.stamp_ns, msg::to_eigen(imu.linear_acceleration_mps2),
                 msg::to_eigen(imu.angular_velocity_radps)))
     reject(InputError::kStampNotIncreasing, imu.header.stamp_ns);
+}
+
+void Vio::on_wheel_odom(const msg::Odometry& odom) {
+  const Eigen::Vector3d v = msg::to_eigen(odom.linear_velocity_mps);
+  if (!v.allFinite()) return reject(InputError::kBadWheelOdom, odom.header.stamp_ns);
+  if (!wheels_.add(odom.header.stamp_ns, v))
+    reject(InputError::kStampNotIncreasing, odom.header.stamp_ns);
 }
 
 void Vio::start(const msg::StereoFrame& frame) {
@@ -193,9 +210,11 @@ void Vio::on_stereo(const msg::StereoFrame& frame) {
   if (last_frame_ns_ != msg::kStampUnset) {
     interval.q_prevbody_body = imu_.rotation(last_frame_ns_, stamp);
     interval.mean_specific_force_mps2 = imu_.mean_accel(stamp, stamp - last_frame_ns_);
+    interval.wheel_velocity_mps = wheels_.mean_velocity(last_frame_ns_, stamp);
   }
   last_frame_ns_ = stamp;
   imu_.drop_before(stamp);
+  wheels_.drop_before(stamp);
 
   StereoInput input;
   const auto w = static_cast<int>(frame.intrinsics.width);

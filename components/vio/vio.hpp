@@ -3,8 +3,10 @@
 // Vio: the `vio` component, one per robot — stereo visual odometry with a gyro prior
 // after eVO (thesis 1.2.2, 5.2.2; components/vio/stereo_odometry.hpp for the algorithm).
 //
-//   stereo (StereoFrame) ─┐
-//   imu    (Imu)         ─┴─► odom (Odometry: T_world_body at the frame's capture time)
+//   stereo     (StereoFrame) ─┐
+//   imu        (Imu)         ─┼─► odom (Odometry: T_world_body at the frame's capture time)
+//   wheel_odom (Odometry)    ─┘   ground robots with use_wheel_odom: the base's body-frame
+//                                 velocity, the motion prior and coasting's translation
 //
 // World frame: the robot's start pose from the launch file's robots: entry (x, y, yaw;
 // z for multirotors, 0 for ground robots whose body frame is on the floor), with roll and
@@ -32,6 +34,7 @@
 #include "components/vio/frame_check.hpp"
 #include "components/vio/imu_buffer.hpp"
 #include "components/vio/stereo_odometry.hpp"
+#include "components/vio/wheel_buffer.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
 #include "interfaces/nav_msgs.hpp"
@@ -68,6 +71,7 @@ class Vio final : public Component {
     double imu_max_gap_s = 0.1;     // longest IMU gap the gyro prior bridges
     uint32_t stereo_queue_depth = 2;
     uint32_t imu_queue_depth = 16;
+    bool use_wheel_odom = false;  // a ground robot reads its base's `wheel_odom`
   };
   static Config read_config(ParamReader& p);
 
@@ -81,6 +85,7 @@ class Vio final : public Component {
   Result<void, std::string> on_configure() override;
   void on_deactivate() override;
   void on_imu(const msg::Imu& imu);
+  void on_wheel_odom(const msg::Odometry& odom);
   void on_stereo(const msg::StereoFrame& frame);
   void reject(InputError error, int64_t stamp_ns);
   void start(const msg::StereoFrame& frame);
@@ -90,6 +95,7 @@ class Vio final : public Component {
   Config config_;
   std::unique_ptr<StereoOdometry> odometry_;
   ImuBuffer imu_;
+  WheelBuffer wheels_;
   Publisher<msg::Odometry> odom_;
   // the launch file's start pose (position, yaw)
   Eigen::Vector3d start_position_m_ = Eigen::Vector3d::Zero();
