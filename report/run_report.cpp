@@ -8,6 +8,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/io/ply.hpp"
@@ -25,7 +27,8 @@ using Json = nlohmann::json;
 
 constexpr const char* kMissing = "&mdash;";
 
-enum class Format { kText, kBool, kInteger, kFixed1, kFixed2, kFixed4, kPercent, kBytes };
+// kMillis: 3 significant digits (a 4 µs callback is 0.004 ms, not 0.00)
+enum class Format { kText, kBool, kInteger, kFixed1, kFixed2, kFixed4, kPercent, kBytes, kMillis };
 
 std::string printf_string(const char* format, double v) {
   char buf[64];
@@ -64,6 +67,8 @@ std::string cell(const Json& object, const char* key, Format format) {
       return printf_string("%.2f", x);
     case Format::kFixed4:
       return printf_string("%.4f", x);
+    case Format::kMillis:
+      return printf_string("%.3g", x);
     case Format::kPercent:
       return printf_string("%.1f", 100 * x);
     case Format::kBytes:
@@ -162,8 +167,15 @@ void summary_table(std::ostream& out, const Json& metrics) {
     const Json* holder = &metrics;
     if (r.parent != nullptr)
       holder = metrics.contains(r.parent) ? &metrics.at(r.parent) : &null_json;
+    // a robot alone exchanges nothing: "0 B" would read as a broken link
+    const bool alone = std::string_view(r.key) == "data_exchanged_bytes" &&
+                       metrics.contains("robots") && metrics.at("robots").is_array() &&
+                       metrics.at("robots").size() <= 1;
     out << "<tr><th>" << r.label << "</th><td" << (is_numeric(r.format) ? " class=\"n\"" : "")
-        << ">" << cell(*holder, r.key, r.format) << "</td></tr>\n";
+        << ">"
+        << (alone ? std::string("&mdash; (one robot: nothing to exchange)")
+                  : cell(*holder, r.key, r.format))
+        << "</td></tr>\n";
   }
   out << "</table>\n";
 }
@@ -273,12 +285,12 @@ void compute_table(std::ostream& out, const Json& metrics) {
     std::string mean = kMissing;
     if (c->is_object() && c->contains("callbacks") && c->at("callbacks").is_number() &&
         c->at("callbacks").get<double>() > 0 && total(*c) >= 0)
-      mean = printf_string("%.2f", total(*c) / c->at("callbacks").get<double>());
+      mean = printf_string("%.3g", total(*c) / c->at("callbacks").get<double>());
     out << "<tr><td>" << markup_escape(name) << "</td><td class=\"n\">"
         << cell(*c, "callbacks", Format::kInteger) << "</td><td class=\"n\">"
         << cell(*c, "total_ms", Format::kFixed1) << "</td><td class=\"n\">" << mean
-        << "</td><td class=\"n\">" << cell(*c, "p50_ms", Format::kFixed2) << "</td><td class=\"n\">"
-        << cell(*c, "p99_ms", Format::kFixed2) << "</td></tr>\n";
+        << "</td><td class=\"n\">" << cell(*c, "p50_ms", Format::kMillis) << "</td><td class=\"n\">"
+        << cell(*c, "p99_ms", Format::kMillis) << "</td></tr>\n";
   }
   out << "</table>\n";
 }
@@ -302,22 +314,51 @@ constexpr RunFile kRunFiles[] = {
      "the command, working directory, seeds and versions: scancrew rerun DIR repeats it"},
 };
 
+// Files a run writes per robot or per map, by name: prefix, suffix, what they hold.
+struct RunFilePattern {
+  const char* prefix;
+  const char* suffix;
+  const char* what;
+};
+
+constexpr RunFilePattern kRunFilePatterns[] = {
+    {"mesh_", ".ply", "one robot's or one map's own mesh (PLY)"},
+    {"map_", ".bt", "one robot's map as an OctoMap"},
+    {"ises_", ".ply", "the ISEs left at the end (PLY points)"},
+    {"topics.txt", "", "each topic: messages, rate per second of the run's clock, latency"},
+};
+
+void file_row(std::ostream& out, const fs::path& dir, const std::string& name, const char* what) {
+  std::error_code ec;
+  const fs::path p = dir / name;
+  const bool present = fs::is_regular_file(p, ec);
+  const auto size = present ? fs::file_size(p, ec) : 0;
+  out << "<tr><td>";
+  if (present)
+    out << "<a href=\"" << markup_escape(name) << "\">" << markup_escape(name) << "</a>";
+  else
+    out << markup_escape(name);
+  out << "</td><td class=\"n\">"
+      << (present && !ec ? human_bytes(static_cast<double>(size)) : kMissing) << "</td><td>"
+      << markup_escape(what) << "</td></tr>\n";
+}
+
 void file_table(std::ostream& out, const fs::path& dir) {
   out << "<h2>Files</h2>\n<table>\n<tr><th>File</th><th>Size</th><th>Holds</th></tr>\n";
-  for (const RunFile& f : kRunFiles) {
-    std::error_code ec;
-    const fs::path p = dir / f.name;
-    const bool present = fs::is_regular_file(p, ec);
-    const auto size = present ? fs::file_size(p, ec) : 0;
-    out << "<tr><td>";
-    if (present)
-      out << "<a href=\"" << f.name << "\">" << f.name << "</a>";
-    else
-      out << f.name;
-    out << "</td><td class=\"n\">"
-        << (present && !ec ? human_bytes(static_cast<double>(size)) : kMissing) << "</td><td>"
-        << markup_escape(f.what) << "</td></tr>\n";
-  }
+  for (const RunFile& f : kRunFiles) file_row(out, dir, f.name, f.what);
+  // the per-robot and per-map files present, in name order
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_regular_file(ec)) names.push_back(it->path().filename().string());
+  std::sort(names.begin(), names.end());
+  for (const RunFilePattern& pattern : kRunFilePatterns)
+    for (const std::string& name : names) {
+      const std::string_view n(name), prefix(pattern.prefix), suffix(pattern.suffix);
+      if (n.size() >= prefix.size() + suffix.size() && n.substr(0, prefix.size()) == prefix &&
+          n.substr(n.size() - suffix.size()) == suffix)
+        file_row(out, dir, name, pattern.what);
+    }
   out << "</table>\n";
 }
 

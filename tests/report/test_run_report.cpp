@@ -433,6 +433,28 @@ TEST(RunReport, WritesTheFiguresAndTablesWithEscapedStrings) {
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
 }
 
+// A robot alone exchanges nothing (said so, not "0 B"); sub-10 µs compute times keep their
+// digits; the per-robot files (mesh_r*.ply, map_r*.bt, ises_*.ply) and topics.txt are listed.
+TEST(RunReport, OneRobotShortCallbacksAndPerRobotFiles) {
+  TempDir dir;
+  write_text(dir.file("metrics.json"), R"({"data_exchanged_bytes": 0,
+    "robots": [{"id": 1, "namespace": "r1", "kind": "ground"}],
+    "compute_ms": {"r1/path_tracker": {"callbacks": 2000, "total_ms": 8.0, "p50_ms": 0.0041,
+                                       "p99_ms": 0.012}}})");
+  for (const char* name : {"mesh_r1.ply", "map_r1.bt", "ises_r1.ply", "topics.txt"})
+    write_text(dir.file(name), "x");
+  const auto r = write_report(dir.path().string());
+  ASSERT_TRUE(r) << r.error();
+  const std::string html = read_text(dir.file("report.html"));
+  EXPECT_NE(html.find("one robot: nothing to exchange"), std::string::npos);
+  EXPECT_EQ(html.find(">0 B<"), std::string::npos);
+  EXPECT_NE(html.find(">0.0041<"), std::string::npos);
+  EXPECT_NE(html.find(">0.012<"), std::string::npos);
+  EXPECT_NE(html.find(">0.004<"), std::string::npos);  // the mean, 8 ms / 2000
+  for (const char* name : {"mesh_r1.ply", "map_r1.bt", "ises_r1.ply", "topics.txt"})
+    EXPECT_NE(html.find(std::string("<a href=\"") + name + "\">"), std::string::npos) << name;
+}
+
 TEST(RunReport, OnlyMetricsGivesAReportWithNoDataPictures) {
   TempDir dir;
   write_text(dir.file("metrics.json"), R"({"launch": null})");
