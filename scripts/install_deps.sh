@@ -31,7 +31,12 @@ PACKAGES=(
   libfcl-dev libvisp-dev
   # style checks run in CI; the fuzzers (clang's libFuzzer, scripts/fuzz.sh)
   clang-format clang-tidy clang libclang-rt-14-dev
+  # headless browser of the report's 3D-view test
+  chromium
 )
+# Node and npm (web tooling in web/: the report's three.js bundle, the Node clients of the
+# live-view and MCAP tests). Debian's packages unless a Node is already installed.
+command -v node >/dev/null && command -v npm >/dev/null || PACKAGES+=(nodejs npm)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -39,7 +44,7 @@ for p in "${PACKAGES[@]}"; do
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install_deps: all ${#PACKAGES[@]} packages present"
-  exit 0
+  exec "$(dirname "$0")/web_deps.sh"
 fi
 
 SUDO=""
@@ -51,3 +56,4 @@ echo "install_deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+exec "$(dirname "$0")/web_deps.sh"
