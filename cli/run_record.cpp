@@ -4,12 +4,14 @@
 
 #include <cstdio>
 #include <fstream>
+#include <utility>
 #include <nlohmann/json.hpp>
 
 #include "cli/build_info.hpp"
 #include "cli/mission_compose.hpp"
 #include "executors/log.hpp"
 #include "executors/params_impl.hpp"
+#include "executors/registry.hpp"
 
 namespace scancrew::cli {
 
@@ -30,9 +32,9 @@ bool is_shell_safe(char c) {
 
 constexpr const char* kResolvedHeader =
     "# The launch file of this run as it was composed (a mission file's composed graph), with\n"
-    "# the run's --set overrides applied (run.json lists them and the command). Parameters it\n"
-    "# leaves out took their component's defaults. `scancrew rerun <this run directory>`\n"
-    "# runs it again; {out} stands for the run directory.\n";
+    "# the run's --set overrides applied (run.json lists them and the command), and every\n"
+    "# component parameter the launch file left out written with the default it took.\n"
+    "# `scancrew rerun <this run directory>` runs it again; {out} stands for the run directory.\n";
 
 // Every `seed` or `*_seed` parameter the resolved launch file sets: "component.key" -> value.
 Json seeds_of(const YAML::Node& root) {
@@ -85,6 +87,31 @@ void absolute_input_paths(YAML::Node& root, const fs::path& launch_dir,
       if (!ec && fs::exists(base / value, ec))
         kv.second = fs::absolute(base / value, ec).lexically_normal().string();
     }
+  }
+}
+
+// Writes each component parameter the launch file leaves out with the value its component
+// took (ComponentRegistry::effective_parameters), so the file lists every parameter.
+void add_defaulted_params(YAML::Node& root) {
+  YAML::Node components = root["components"];
+  if (!components.IsSequence()) return;
+  const auto& registry = ComponentRegistry::instance();
+  for (YAML::Node c : components) {
+    if (!c.IsMap() || !c["type"].IsScalar()) continue;
+    if (c["params"].IsDefined() && !c["params"].IsMap()) continue;
+    const YAML::Node given = c["params"].IsDefined() ? c["params"] : YAML::Node();
+    YAML::Node params = given.IsDefined() ? given : YAML::Node(YAML::NodeType::Map);
+    bool added = false;
+    for (const ParamInfo& p : registry.effective_parameters(c["type"].Scalar(), given)) {
+      if (std::as_const(params)[p.key].IsDefined()) continue;  // (const: no zombie key)
+      try {
+        params[p.key] = YAML::Load(p.default_value);
+        added = true;
+      } catch (const YAML::Exception&) {
+        continue;  // (cannot happen: effective() writes YAML; leave the key to its default)
+      }
+    }
+    if (added && !given.IsDefined()) c["params"] = params;
   }
 }
 
@@ -141,6 +168,7 @@ Result<std::string, std::string> resolved_launch_text(const std::string& path, s
   if (!root) return make_unexpected(root.error());
   if (const auto errors = apply_launch_overrides(*root, overrides, path); !errors.empty())
     return make_unexpected(path + ": " + errors.front());
+  add_defaulted_params(*root);
   absolute_input_paths(*root, fs::path(path).parent_path(), overrides);
   YAML::Emitter out;
   out << *root;

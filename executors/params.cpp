@@ -251,6 +251,33 @@ std::string value_text(const T& value) {
   }
 }
 
+// A value as YAML text that reads back to the same value: doubles in their shortest
+// round-trip form (value_text's 10 digits are for people), strings double-quoted.
+template <class T>
+std::string exact_text(const T& value) {
+  if constexpr (std::is_floating_point_v<T>) {
+    std::array<char, 64> text{};
+    const auto end = std::to_chars(text.data(), text.data() + text.size(), value).ptr;
+    return {text.data(), end};
+  } else if constexpr (std::is_same_v<T, std::string>) {
+    std::string out = "\"";
+    for (const char c : value) {
+      if (c == '"' || c == '\\') out += '\\';
+      out += c;
+    }
+    return out + "\"";
+  } else {
+    return value_text(value);
+  }
+}
+
+template <class T>
+std::string exact_list_text(const std::vector<T>& values) {
+  std::string out;
+  for (const T& v : values) out += (out.empty() ? "" : ", ") + exact_text(v);
+  return "[" + out + "]";
+}
+
 template <class T>
 Range clamp_range(Range r) {
   if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
@@ -293,6 +320,16 @@ bool parse_scalar(const std::string& text, T& out) {
 
 template <class T>
 void ParamReader::read(std::string_view key, T& value, Range range, bool is_required) {
+  read_value(key, value, range, is_required);
+  // a non-finite default stands for "none" (no altitude limit, say): no launch file can
+  // give it, so effective() leaves it out
+  if constexpr (std::is_floating_point_v<T>)
+    if (!std::isfinite(value)) return;
+  if (!describing_) note_effective(key, type_name<T>(), exact_text(value));
+}
+
+template <class T>
+void ParamReader::read_value(std::string_view key, T& value, Range range, bool is_required) {
   asked_.emplace_back(key);
   if (describing_) {
     record({.key = std::string(key),
@@ -374,7 +411,7 @@ bool ParamReader::choose(std::string_view key, std::string& value,
     return true;
   }
   std::string picked = value;
-  read(key, picked, {}, is_required);
+  read_value(key, picked, {}, is_required);
   std::string list;
   for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
   if (std::find(allowed.begin(), allowed.end(), picked) == allowed.end()) {
@@ -382,11 +419,36 @@ bool ParamReader::choose(std::string_view key, std::string& value,
     return false;
   }
   value = picked;
+  note_effective(key, "choice", exact_text(value));
   return true;
 }
 
 ParamDoc ParamReader::optional_list(std::string_view key, std::vector<double>& value, size_t size,
                                     Range range) {
+  const ParamDoc doc = read_list(key, value, size, range);
+  if (!describing_) note_effective(key, "list<double>", exact_list_text(value));
+  return doc;
+}
+
+ParamDoc ParamReader::optional_list(std::string_view key, std::vector<std::string>& value) {
+  const ParamDoc doc = read_list(key, value);
+  if (!describing_) note_effective(key, "list<string>", exact_list_text(value));
+  return doc;
+}
+
+void ParamReader::note_effective(std::string_view key, std::string type, std::string yaml_text) {
+  for (ParamInfo& known : effective_)
+    if (known.key == key) {
+      known.type = std::move(type);
+      known.default_value = std::move(yaml_text);
+      return;
+    }
+  effective_.push_back({.key = std::string(key), .type = std::move(type),
+                        .default_value = std::move(yaml_text)});
+}
+
+ParamDoc ParamReader::read_list(std::string_view key, std::vector<double>& value, size_t size,
+                                Range range) {
   asked_.emplace_back(key);
   if (describing_) {
     std::string shown;
@@ -422,7 +484,7 @@ ParamDoc ParamReader::optional_list(std::string_view key, std::vector<double>& v
   return {};
 }
 
-ParamDoc ParamReader::optional_list(std::string_view key, std::vector<std::string>& value) {
+ParamDoc ParamReader::read_list(std::string_view key, std::vector<std::string>& value) {
   asked_.emplace_back(key);
   if (describing_) {
     std::string shown;

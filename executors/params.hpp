@@ -72,6 +72,11 @@ class ParamReader {
   static ParamReader describing();
   bool is_describing() const { return describing_; }
   const std::vector<ParamInfo>& described() const { return described_; }
+  // Every key a (non-describing) read asked for, with the value it left: the launch file's,
+  // or the default. ParamInfo::default_value holds it as YAML text that reads back exactly
+  // (doubles in shortest round-trip form, lists as flow sequences). A non-finite double
+  // (a default meaning "none") is left out: no launch file can give it.
+  const std::vector<ParamInfo>& effective() const { return effective_; }
 
   // Supported T: double, int, int64_t, uint32_t, uint64_t, bool, std::string.
   // optional(): a missing key keeps `value` (the default); required(): it is an error.
@@ -114,8 +119,14 @@ class ParamReader {
  private:
   template <class T>
   void read(std::string_view key, T& value, Range range, bool is_required);
+  template <class T>
+  void read_value(std::string_view key, T& value, Range range, bool is_required);
+  ParamDoc read_list(std::string_view key, std::vector<double>& value, size_t size, Range range);
+  ParamDoc read_list(std::string_view key, std::vector<std::string>& value);
   // describing(): records a read (once per key); the doc handle of `key`'s record.
   void record(ParamInfo info);
+  // A non-describing read's outcome (effective()).
+  void note_effective(std::string_view key, std::string type, std::string yaml_text);
   ParamDoc doc_of(std::string_view key);
   // Reads `key` into `value` if it is one of `allowed`; false (and an error) if not.
   bool choose(std::string_view key, std::string& value,
@@ -127,6 +138,7 @@ class ParamReader {
   std::vector<std::string> asked_;
   bool describing_ = false;
   std::vector<ParamInfo> described_;
+  std::vector<ParamInfo> effective_;
 };
 
 }  // namespace scancrew

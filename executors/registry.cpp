@@ -1,6 +1,7 @@
 #include "executors/registry.hpp"
 
 #include "core/check.hpp"
+#include "executors/params_impl.hpp"
 
 namespace scancrew {
 
@@ -29,6 +30,15 @@ std::vector<ParamInfo> ComponentRegistry::parameters(const std::string& type) co
   ParamReader reader = ParamReader::describing();
   entry->read_params(reader);
   return reader.described();
+}
+
+std::vector<ParamInfo> ComponentRegistry::effective_parameters(const std::string& type,
+                                                               const YAML::Node& params) const {
+  const Entry* entry = find(type);
+  if (entry == nullptr || entry->read_params == nullptr) return {};
+  ParamReader reader = make_param_reader(params, "(effective)", "params");
+  entry->read_params(reader);
+  return reader.effective();
 }
 
 std::vector<std::string> ComponentRegistry::types() const {

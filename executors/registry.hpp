@@ -18,6 +18,8 @@
 //                                                       // compute is never charged
 // Thread safety: registration happens during static initialisation; lookups after main().
 
+#include <yaml-cpp/node/node.h>
+
 #include <functional>
 #include <map>
 #include <memory>
@@ -52,6 +54,11 @@ class ComponentRegistry {
   // The parameters of `type`, as its read_config() asks for them, in that order; empty for a
   // type not registered or registered without read_params.
   std::vector<ParamInfo> parameters(const std::string& type) const;
+  // The value of every parameter of `type` given `params` (a launch file's params mapping):
+  // its read_config() run over them, each key with the value it read or defaulted to
+  // (ParamReader::effective()); empty as parameters() is.
+  std::vector<ParamInfo> effective_parameters(const std::string& type,
+                                              const YAML::Node& params) const;
 
  private:
   std::map<std::string, Entry> entries_;

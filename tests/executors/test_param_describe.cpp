@@ -3,7 +3,9 @@
 // ComponentRegistry::parameters() runs a registered type's read_config() so.
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -126,6 +128,36 @@ class Described final : public Component {
   Result<void, std::string> on_configure() override { return {}; }
 };
 
+// effective(): each key with the value the read left, as YAML that reads back exactly; a
+// default derived from another parameter is the derived value.
+TEST(ParamDescribe, AReaderOverParametersRecordsTheValuesItLeft) {
+  auto r = ParamReader::from_yaml_string(
+      "rate_hz: 3\nmap_file: 'a \"b\".bt'\ngait: walk\nrobots: [r1, r2]\n", "t.yaml");
+  (void)read_config(r);
+  const auto& all = r.effective();
+  ASSERT_EQ(all.size(), 10U);                                            // rate_hz read twice: once
+  EXPECT_EQ(find(all, "rate_hz").default_value, "3");                    // given
+  EXPECT_EQ(find(all, "window_s").default_value, "1.3333333333333333");  // derived, exact
+  EXPECT_EQ(find(all, "map_file").default_value, R"("a \"b\".bt")");
+  EXPECT_EQ(find(all, "gait").default_value, R"("walk")");
+  EXPECT_EQ(find(all, "colour").type, "choice");
+  EXPECT_EQ(find(all, "count").default_value, "7");
+  EXPECT_EQ(find(all, "verbose").default_value, "false");
+  EXPECT_EQ(find(all, "origin").default_value, "[1, 2, 3]");
+  EXPECT_EQ(find(all, "robots").default_value, R"(["r1", "r2"])");
+}
+
+// A non-finite default ("no limit") has no launch-file form: effective() leaves it out.
+TEST(ParamDescribe, EffectiveValuesLeaveOutNonFiniteDefaults) {
+  auto r = ParamReader::from_yaml_string("", "t.yaml");
+  double ceiling = std::numeric_limits<double>::infinity(), floor = -1.5;
+  r.optional("ceiling_m", ceiling, {-100, 100});
+  r.optional("floor_m", floor, {-100, 100});
+  ASSERT_EQ(r.effective().size(), 1U);
+  EXPECT_EQ(r.effective()[0].key, "floor_m");
+  EXPECT_EQ(r.effective()[0].default_value, "-1.5");
+}
+
 TEST(ParamDescribe, TheRegistryListsARegisteredTypesParameters) {
   const auto& registry = ComponentRegistry::instance();
   const auto params = registry.parameters("test_param_described");
@@ -133,6 +165,10 @@ TEST(ParamDescribe, TheRegistryListsARegisteredTypesParameters) {
   EXPECT_EQ(params[0].key, "rate_hz");
   EXPECT_EQ(params[0].description, "camera frame rate (Hz)");
   EXPECT_TRUE(registry.parameters("no_such_type").empty());
+  const auto effective =
+      registry.effective_parameters("test_param_described", YAML::Load("rate_hz: 8"));
+  EXPECT_EQ(find(effective, "window_s").default_value, "0.5");
+  EXPECT_TRUE(registry.effective_parameters("no_such_type", YAML::Node()).empty());
 }
 
 }  // namespace
