@@ -30,6 +30,7 @@ void print_graph(std::FILE* out, Launch& launch) {
                  subs.empty() ? "(none)" : subs.c_str());
   }
   const GraphReport report = graph.check();
+  for (const auto& n : report.notes) std::fprintf(out, "note: %s\n", n.c_str());
   for (const auto& w : report.warnings) std::fprintf(out, "warning: %s\n", w.c_str());
   for (const auto& e : report.errors) std::fprintf(out, "error: %s\n", e.c_str());
   if (report.errors.empty() && report.warnings.empty()) std::fprintf(out, "graph check: ok\n");

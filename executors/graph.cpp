@@ -67,9 +67,10 @@ GraphReport Graph::check() const {
   for (const EndpointInfo& e : endpoints_) {
     if (e.kind == EndpointInfo::Kind::kSubscription && !published.count(e.topic)) {
       const bool optional = optional_inputs_.count({e.component, e.port}) > 0;
-      report.warnings.push_back("unconnected input: " + e.component + "." + e.port + " reads '" +
-                                e.topic + "' (" + e.type_name + ") but nothing publishes it" +
-                                (optional ? " (optional)" : ""));
+      (optional ? report.notes : report.warnings)
+          .push_back("unconnected input: " + e.component + "." + e.port + " reads '" + e.topic +
+                     "' (" + e.type_name + ") but nothing publishes it" +
+                     (optional ? " (optional)" : ""));
       if (!optional) report.unconnected_inputs.push_back(e);
     }
     if (e.kind == EndpointInfo::Kind::kPublisher && !subscribed.count(e.topic))

@@ -34,6 +34,9 @@ struct EndpointInfo {
 struct GraphReport {
   std::vector<std::string> errors;    // type mismatches
   std::vector<std::string> warnings;  // inputs nobody publishes, outputs nobody reads
+  // optional inputs (Component::mark_input_optional) nobody publishes: nothing is wrong, so
+  // not warnings; `scancrew graph` lists them
+  std::vector<std::string> notes;
   // the inputs nobody publishes (warned above), but those their component marks optional
   std::vector<EndpointInfo> unconnected_inputs;
 };

@@ -100,11 +100,15 @@ Result<void, std::string> MissionMonitor::on_configure() {
     create_subscription<msg::RobotState>(
         prefix + "robot_state", {.depth = 8},
         [this, i](Sample<msg::RobotState>&& s) { on_state(i, *s); });
+    // a graph without planners (a replay of recorded paths) has no robot states and no ISEs:
+    // the monitor then reports coverage only, and the run ends at its duration
+    mark_input_optional(prefix + "robot_state");
   }
   for (size_t k = 0; k < sources_.size(); ++k) {
     const std::string prefix = per_robot ? "/" + team()[k].ns + "/" : "/";
     create_subscription<msg::IseSet>(prefix + "ises", {.depth = 1},
                                      [this, k](Sample<msg::IseSet>&& s) { on_ises(k, *s); });
+    mark_input_optional(prefix + "ises");
     if (maps)
       create_subscription<msg::MapUpdate>(prefix + "map", {.depth = 1},
                                           [this, k](Sample<msg::MapUpdate>&& s) { on_map(k, *s); });

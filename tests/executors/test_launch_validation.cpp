@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
+
+#include "executors/clock.hpp"
+#include "executors/graph.hpp"
 #include "executors/launch.hpp"
 #include "tests/executors/launch_harness.hpp"
 #include "tests/executors/test_components.hpp"
@@ -311,6 +315,30 @@ TEST(Launch, UnconnectedInputIsAWarning) {
   const auto report = (*launch)->report();
   ASSERT_EQ(report.warnings.size(), 1u);
   EXPECT_NE(report.warnings[0].find("unconnected input: /l.in reads '/in'"), std::string::npos);
+}
+
+// An input its component does without (mark_input_optional) is a note, not a warning: a
+// shipped mission that lacks it (a replay without planners) is quiet.
+TEST(Launch, UnconnectedOptionalInputIsANote) {
+  Graph graph(std::make_shared<SimClock>());
+  graph.record({.kind = EndpointInfo::Kind::kSubscription,
+                .component = "/m",
+                .port = "state",
+                .topic = "/state",
+                .type_name = "t"});
+  graph.record({.kind = EndpointInfo::Kind::kSubscription,
+                .component = "/m",
+                .port = "depth",
+                .topic = "/depth",
+                .type_name = "t"});
+  graph.mark_optional("/m", "state");
+  const GraphReport report = graph.check();
+  ASSERT_EQ(report.notes.size(), 1u);
+  EXPECT_NE(report.notes[0].find("/m.state reads '/state'"), std::string::npos);
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find("/m.depth reads '/depth'"), std::string::npos);
+  ASSERT_EQ(report.unconnected_inputs.size(), 1u);
+  EXPECT_EQ(report.unconnected_inputs[0].port, "depth");
 }
 
 }  // namespace
