@@ -219,10 +219,7 @@ void TeamSimulator::tick() {
     }
     if (p.wheel && stamp >= p.next_wheel_ns) {
       p.next_wheel_ns = next(p.next_wheel_ns, config_.wheel.rate_hz);
-      const msg::Pose3 pose = sim_->body_pose(i);
-      const msg::Quat& q = pose.orientation;
-      const double yaw =
-          std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+      const double yaw = heading_of(sim_->body_pose(i).orientation);
       // measured whether or not a buffer is free: the dead reckoning goes on
       const msg::Odometry reading =
           p.wheel->measure(stamp, sim_->body_velocity(i), yaw, sim_->body_yaw_rate(i));

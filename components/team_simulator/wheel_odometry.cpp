@@ -4,6 +4,10 @@
 
 namespace scancrew::team_simulator {
 
+double heading_of(const msg::Quat& q) {
+  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+}
+
 WheelOdometry::WheelOdometry(const WheelOdometryConfig& config, uint64_t seed,
                              const msg::Pose3& start)
     : config_(config), rng_(seed) {
@@ -12,8 +16,7 @@ WheelOdometry::WheelOdometry(const WheelOdometryConfig& config, uint64_t seed,
   x_ = start.position.x;
   y_ = start.position.y;
   z_ = start.position.z;
-  const msg::Quat& q = start.orientation;
-  yaw_ = std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+  yaw_ = heading_of(start.orientation);
 }
 
 msg::Odometry WheelOdometry::measure(int64_t stamp_ns, const msg::Vec3& velocity_world_mps,

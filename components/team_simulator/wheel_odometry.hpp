@@ -22,6 +22,9 @@ struct WheelOdometryConfig {
   double yaw_rate_noise_radps = 0.02;  // the wheels' yaw rate is poorer than the gyro's
 };
 
+// The yaw of an orientation (rad), as the wheels know it: the heading they dead-reckon.
+double heading_of(const msg::Quat& q);
+
 class WheelOdometry {
  public:
   // seed: the robot's own stream (the simulator's other noise is not touched).
