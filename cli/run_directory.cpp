@@ -221,6 +221,10 @@ Json robot_metrics(const MissionMonitor::RobotProgress& r, const RunSummary& sum
     time[std::string(report::to_string(static_cast<report::Activity>(a)))] = r.time.seconds[a];
   j["time_s"] = std::move(time);
   j["ises_left"] = r.ises_left;
+  for (const RunSummary::Map& map : summary.maps)  // distributed: the map patches it sent
+    if (map.robot_id == r.id &&
+        map.mode == name_of(tsdf_mapper::kMapModeNames, tsdf_mapper::MapMode::kDistributed))
+      j["patch_bytes_sent"] = map.patch_wire_bytes;
   j["state"] = r.have_state ? std::string(msg::to_string(r.mode)) : "starting";
   if (const auto o = summary.odometry.find(r.id); o != summary.odometry.end())
     j["odometry"] = odometry_metrics(o->second, r.path_length_m);

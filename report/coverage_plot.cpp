@@ -1,5 +1,6 @@
 // The coverage plot of a mission (plots.hpp): coverage (%) over time per robot with the
-// 90 % and 95 % levels, and the ISEs left per robot on a panel below, sharing the time axis.
+// 90 % and 95 % levels, and the ISEs left per robot on a panel below, sharing the time axis;
+// the first robot's lines solid, the others' dashed, each in its own pattern.
 
 #include <algorithm>
 #include <cmath>
@@ -150,23 +151,66 @@ void draw_levels(cv::Mat& img, const Panel& cov, const canvas::Style& st) {
   }
 }
 
-// Draws each robot's coverage curve and its ISEs-left steps.
+// Each robot's line pattern, by its rank among the plotted robots: the first solid, the
+// others dashed (dash, gap, phase in units), so that robots whose curves coincide (in a
+// distributed run every robot ends with the team's map) all show.
+struct Dash {
+  double dash = 0, gap = 0, phase = 0;  // dash 0: solid
+};
+constexpr Dash kDashes[] = {{0, 0, 0}, {14, 12, 0}, {5, 9, 2}, {22, 8, 11}, {9, 5, 4}};
+
+Dash dash_of(size_t rank) {
+  return kDashes[rank % std::size(kDashes)];
+}
+
+// A polyline in the robot's pattern; the dashes run on across its vertices.
+void draw_polyline(cv::Mat& img, const std::vector<cv::Point2d>& pts, const cv::Scalar& colour,
+                   int thickness, Dash d, double unit) {
+  if (d.dash <= 0) {
+    std::vector<cv::Point> fixed;
+    fixed.reserve(pts.size());
+    for (const cv::Point2d& p : pts) fixed.push_back(canvas::fixed(p));
+    cv::polylines(img, fixed, false, colour, thickness, cv::LINE_AA, canvas::kShift);
+    return;
+  }
+  const double period = (d.dash + d.gap) * unit;
+  double s = d.phase * unit;  // distance along the line, in the pattern
+  for (size_t i = 1; i < pts.size(); ++i) {
+    const cv::Point2d a = pts[i - 1], b = pts[i];
+    const double length = std::hypot(b.x - a.x, b.y - a.y);
+    if (length <= 0) continue;
+    const cv::Point2d dir = (b - a) * (1.0 / length);
+    for (double at = 0; at < length;) {
+      const double in = std::fmod(s + at, period);
+      const double left = in < d.dash * unit ? d.dash * unit - in : period - in;
+      const double e = std::min(length, at + left);
+      if (in < d.dash * unit)
+        cv::line(img, canvas::fixed(a + dir * at), canvas::fixed(a + dir * e), colour, thickness,
+                 cv::LINE_AA, canvas::kShift);
+      at = e;
+    }
+    s += length;
+  }
+}
+
+// Draws each robot's coverage curve and its ISEs-left steps, each robot in its pattern.
 void draw_series(cv::Mat& img, const std::map<uint32_t, std::vector<CoverageSample>>& robots,
                  const Panel& cov, const Panel& ise, const canvas::Style& st) {
   const int line = st.thickness(2.5);
+  size_t rank = 0;
   for (const auto& [id, list] : robots) {
-    std::vector<cv::Point> c, e;
+    std::vector<cv::Point2d> c, e;
     c.reserve(list.size());
     e.reserve(2 * list.size());
     for (size_t i = 0; i < list.size(); ++i) {
-      c.push_back(canvas::fixed(cov.at(list[i].t_s, 100 * list[i].coverage)));
+      c.push_back(cov.at(list[i].t_s, 100 * list[i].coverage));
       const double v = static_cast<double>(list[i].ises_left);
-      if (i > 0)
-        e.push_back(canvas::fixed(ise.at(list[i].t_s, static_cast<double>(list[i - 1].ises_left))));
-      e.push_back(canvas::fixed(ise.at(list[i].t_s, v)));
+      if (i > 0) e.push_back(ise.at(list[i].t_s, static_cast<double>(list[i - 1].ises_left)));
+      e.push_back(ise.at(list[i].t_s, v));
     }
-    cv::polylines(img, c, false, robot_bgr(id), line, cv::LINE_AA, canvas::kShift);
-    cv::polylines(img, e, false, robot_bgr(id), line, cv::LINE_AA, canvas::kShift);
+    draw_polyline(img, c, robot_bgr(id), line, dash_of(rank), st.unit);
+    draw_polyline(img, e, robot_bgr(id), line, dash_of(rank), st.unit);
+    ++rank;
   }
 }
 
@@ -192,8 +236,8 @@ void draw_title_and_legend(cv::Mat& img, const std::string& title,
       break;
     }
     const double mid = y - 6 * st.unit;
-    cv::line(img, canvas::fixed({x0, mid}), canvas::fixed({x0 + 36 * st.unit, mid}), robot_bgr(id),
-             st.thickness(4), cv::LINE_AA, canvas::kShift);
+    draw_polyline(img, {{x0, mid}, {x0 + 36 * st.unit, mid}}, robot_bgr(id), st.thickness(4),
+                  dash_of(shown), st.unit);
     canvas::text(img, "robot " + std::to_string(id), {x0 + 46 * st.unit, y}, st.font(0.55), ink,
                  st.thickness(1));
     y += row;

@@ -172,7 +172,7 @@ void draw_legend(cv::Mat& img, const std::map<uint32_t, std::vector<PathSample>>
   double y = (kTitleBand + 20) * st.unit;
   canvas::text(img, "robots", {x0, y}, st.font(0.6), ink, st.thickness(1.6));
   y += row;
-  const double bottom_reserve = (has_mesh ? 250 : 90) * st.unit;
+  const double bottom_reserve = (has_mesh ? 300 : 90) * st.unit;
   size_t shown = 0;
   for (const auto& [id, samples] : robots) {
     if (y > img.rows - bottom_reserve && shown + 1 < robots.size()) {
@@ -207,6 +207,13 @@ void draw_legend(cv::Mat& img, const std::map<uint32_t, std::vector<PathSample>>
   canvas::text(img, "end", {x0 + 46 * st.unit, y}, label, ink, thin);
   y += row;
   if (!has_mesh) return;
+  // white within the mesh (box tops): surface no camera saw, above the cameras, not a hole
+  cv::rectangle(img, canvas::fixed({x0 + 18 * st.unit - m, y - 2 * m}),
+                canvas::fixed({x0 + 18 * st.unit + m, y}), ink, thin, cv::LINE_AA, canvas::kShift);
+  canvas::text(img, "not seen by", {x0 + 46 * st.unit, y}, label, ink, thin);
+  y += 0.8 * row;
+  canvas::text(img, "any camera", {x0 + 46 * st.unit, y}, label, ink, thin);
+  y += row;
   // height ramp: highest at the top
   y += 0.6 * row;
   canvas::text(img, "mesh height (m)", {x0, y}, st.font(0.55), ink, st.thickness(1.4));

@@ -3,9 +3,11 @@
 // The pictures of a mission report (PNG, drawn with OpenCV inside plots.cpp):
 //   - a top view of the reconstruction and of the robots' paths (x right, y up), the mesh's
 //     triangles projected on x-y and filled with a grey ramp by height (lowest drawn first),
-//     each robot's path in its own colour with a start circle and an end square, a legend,
+//     each robot's path in its own colour with a start circle and an end square, a legend
+//     (which says that white within the mesh, as on box tops, is surface no camera saw),
 //     a scale bar and a height bar;
-//   - coverage (%) over time, one line per robot, with the 90 % and 95 % levels, and the
+//   - coverage (%) over time, one line per robot (the first solid, the others dashed, so
+//     that coinciding curves all show), with the 90 % and 95 % levels, and the
 //     ISEs left per robot on a panel below (the thesis' completion criterion, 5.4).
 // Empty inputs give a picture that says "no data"; errors name the output file.
 

@@ -17,6 +17,8 @@
 #include "executors/params_impl.hpp"
 #include "report/plots.hpp"
 #include "report/run_files.hpp"
+#include "report/run_files_table.hpp"
+#include "report/scene_view.hpp"
 #include "report/time_breakdown.hpp"
 
 namespace scancrew::report {
@@ -34,18 +36,6 @@ std::string printf_string(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
-}
-
-std::string human_bytes(double bytes) {
-  static constexpr const char* kUnits[] = {"KiB", "MiB", "GiB", "TiB"};
-  std::string s = printf_string("%.0f B", bytes);
-  double v = bytes;
-  for (const char* unit : kUnits) {
-    if (v < 1024) break;
-    v /= 1024;
-    s = printf_string("%.1f ", v) + unit;
-  }
-  return s;
 }
 
 // The HTML of a value of the metrics, or "—" when absent or null. A value of an unexpected
@@ -295,73 +285,6 @@ void compute_table(std::ostream& out, const Json& metrics) {
   out << "</table>\n";
 }
 
-struct RunFile {
-  const char* name;
-  const char* what;
-};
-
-constexpr RunFile kRunFiles[] = {
-    {"mesh.ply", "the reconstruction, a triangle mesh (PLY)"},
-    {"map.bt", "the team's map as an OctoMap (open with octovis)"},
-    {"paths.csv", "each robot's pose over time: t_s,robot_id,x_m,y_m,z_m,yaw_rad"},
-    {"coverage.csv",
-     "each robot's coverage and ISEs left over time: t_s,robot_id,coverage,"
-     "ises_left"},
-    {"metrics.json", "the mission's metrics (the tables above)"},
-    {"trace.json", "the execution trace: open trace.json in https://ui.perfetto.dev"},
-    {"launch.resolved.yaml", "the launch file as the run composed it, its --set overrides applied"},
-    {"run.json",
-     "the command, working directory, seeds and versions: scancrew rerun DIR repeats it"},
-};
-
-// Files a run writes per robot or per map, by name: prefix, suffix, what they hold.
-struct RunFilePattern {
-  const char* prefix;
-  const char* suffix;
-  const char* what;
-};
-
-constexpr RunFilePattern kRunFilePatterns[] = {
-    {"mesh_", ".ply", "one robot's or one map's own mesh (PLY)"},
-    {"map_", ".bt", "one robot's map as an OctoMap"},
-    {"ises_", ".ply", "the ISEs left at the end (PLY points)"},
-    {"topics.txt", "", "each topic: messages, rate per second of the run's clock, latency"},
-};
-
-void file_row(std::ostream& out, const fs::path& dir, const std::string& name, const char* what) {
-  std::error_code ec;
-  const fs::path p = dir / name;
-  const bool present = fs::is_regular_file(p, ec);
-  const auto size = present ? fs::file_size(p, ec) : 0;
-  out << "<tr><td>";
-  if (present)
-    out << "<a href=\"" << markup_escape(name) << "\">" << markup_escape(name) << "</a>";
-  else
-    out << markup_escape(name);
-  out << "</td><td class=\"n\">"
-      << (present && !ec ? human_bytes(static_cast<double>(size)) : kMissing) << "</td><td>"
-      << markup_escape(what) << "</td></tr>\n";
-}
-
-void file_table(std::ostream& out, const fs::path& dir) {
-  out << "<h2>Files</h2>\n<table>\n<tr><th>File</th><th>Size</th><th>Holds</th></tr>\n";
-  for (const RunFile& f : kRunFiles) file_row(out, dir, f.name, f.what);
-  // the per-robot and per-map files present, in name order
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-    if (it->is_regular_file(ec)) names.push_back(it->path().filename().string());
-  std::sort(names.begin(), names.end());
-  for (const RunFilePattern& pattern : kRunFilePatterns)
-    for (const std::string& name : names) {
-      const std::string_view n(name), prefix(pattern.prefix), suffix(pattern.suffix);
-      if (n.size() >= prefix.size() + suffix.size() && n.substr(0, prefix.size()) == prefix &&
-          n.substr(n.size() - suffix.size()) == suffix)
-        file_row(out, dir, name, pattern.what);
-    }
-  out << "</table>\n";
-}
-
 // What the pictures show: the optional inputs, each read when present; a file that cannot be
 // read adds a note and is left out.
 struct PlotInputs {
@@ -393,6 +316,24 @@ PlotInputs read_plot_inputs(const fs::path& dir) {
       in.notes.push_back(coverage.error());
   }
   return in;
+}
+
+// The metrics' robots (robots[]: id, namespace, patch_bytes_sent) for the 3D view.
+std::vector<SceneRobot> scene_robots(const Json& metrics) {
+  std::vector<SceneRobot> robots;
+  if (!metrics.contains("robots") || !metrics.at("robots").is_array()) return robots;
+  for (const Json& r : metrics.at("robots")) {
+    if (!r.is_object() || !r.contains("id") || !r.at("id").is_number_unsigned() ||
+        r.at("id").get<uint64_t>() > UINT32_MAX)
+      continue;
+    SceneRobot robot{.id = r.at("id").get<uint32_t>()};
+    if (r.contains("namespace") && r.at("namespace").is_string())
+      robot.name = r.at("namespace").get<std::string>();
+    if (r.contains("patch_bytes_sent") && r.at("patch_bytes_sent").is_number_unsigned())
+      robot.bytes_sent = r.at("patch_bytes_sent").get<uint64_t>();
+    robots.push_back(std::move(robot));
+  }
+  return robots;
 }
 
 std::string string_or(const Json& metrics, const char* key, const std::string& fallback) {
@@ -438,6 +379,9 @@ Result<void, std::string> write_report(const std::string& run_dir) {
       last_ises[s.robot_id] = s.ises_left;
     }
 
+  SceneSections scene = scene_sections(run_dir, in.paths, scene_robots(metrics));
+  in.notes.insert(in.notes.end(), scene.notes.begin(), scene.notes.end());
+
   // the page
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>"
@@ -455,13 +399,18 @@ Result<void, std::string> write_report(const std::string& run_dir) {
   html << "<h2>Top view</h2>\n<figure><img src=\"top_view.png\" alt=\"top view of the "
           "reconstruction and the robots' paths\">\n<figcaption>The reconstruction seen from "
           "above, grey by height (darker is higher), and each robot's path from its start "
-          "(circle) to its end (square).</figcaption></figure>\n";
+          "(circle) to its end (square). White inside the mesh, as on the tops of boxes: "
+          "surface no camera saw, above the robots' cameras (unobservable from their height), "
+          "not a hole in the reconstruction.</figcaption></figure>\n";
+  html << scene.view_html;
   html << "<h2>Coverage</h2>\n<figure><img src=\"coverage.png\" alt=\"coverage over time\">\n"
           "<figcaption>Each robot's coverage of the scene's surface over time, with the 90 % "
           "and 95 % levels, and the ISEs (incomplete surface elements, thesis Definition 1) left "
-          "in its map."
+          "in its map. Robots whose curves coincide (in a distributed run each ends with the "
+          "team's map) are drawn with different dashes so that each shows."
           "</figcaption></figure>\n";
   robot_table(html, metrics, last_ises);
+  html << scene.contribution_html;
   time_bars(html, metrics);
   compute_table(html, metrics);
   file_table(html, dir);

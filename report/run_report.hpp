@@ -1,8 +1,9 @@
 #pragma once
 
 // The report of a mission run directory (docs/missions.md): from metrics.json, paths.csv,
-// coverage.csv and mesh.ply it writes top_view.png, coverage.png and report.html, a
-// self-contained static page (inline CSS, no scripts, no external links) with the mission's
+// coverage.csv, mesh.ply and ises*.ply it writes top_view.png, coverage.png and report.html,
+// a self-contained page (inline CSS, the 3D view's script and scene inlined: no external
+// links, so it opens offline; report/scene_view.hpp) with the mission's
 // metrics (the thesis' evaluation quantities, 5.4: coverage, reconstruction error,
 // completion time, path length, data exchanged), a table per robot, the compute time per
 // component, the two pictures and links to the files of the directory.

@@ -424,11 +424,12 @@ TEST(RunReport, WritesTheFiguresAndTablesWithEscapedStrings) {
   EXPECT_NE(html.find("<td class=\"n\">0</td></tr>"), std::string::npos);
   EXPECT_NE(html.find("<td class=\"n\">7</td></tr>"), std::string::npos);
   EXPECT_LT(html.find("r1/high_level_planner"), html.find("r1/tsdf_mapper"));
-  // links to the files present, text for the absent; no scripts, no external links
+  // links to the files present, text for the absent; the 3D view's scripts inlined (no
+  // script from a file), no external links
   EXPECT_NE(html.find("<a href=\"mesh.ply\">"), std::string::npos);
   EXPECT_EQ(html.find("<a href=\"map.bt\">"), std::string::npos);
   EXPECT_NE(html.find("ui.perfetto.dev"), std::string::npos);
-  EXPECT_EQ(html.find("<script"), std::string::npos);
+  EXPECT_EQ(html.find("<script src"), std::string::npos);
   EXPECT_EQ(html.find("href=\"http"), std::string::npos);
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
 }
