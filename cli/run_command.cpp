@@ -1,6 +1,7 @@
 #include "cli/run_command.hpp"
 
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <chrono>
@@ -203,11 +204,36 @@ int finish_mission(Launch& launch, MissionMonitor& monitor, RunFacts& run, bool 
   return interrupted ? 130 : 3;
 }
 
+// The launch file's text with a foxglove_bridge (the live view) appended to its components,
+// run in `process`: the file re-emitted, so its comments go.
+Result<std::string, std::string> with_live_view(const std::string& text, const std::string& path,
+                                                int port, const std::string& process) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    return make_unexpected(path + ": " + e.what());
+  }
+  if (!root.IsMap() || !root["components"].IsSequence())
+    return make_unexpected(path + ": --live: the launch file has no components: list");
+  YAML::Node bridge;
+  bridge["name"] = "foxglove_bridge";
+  bridge["type"] = "foxglove_bridge";
+  bridge["per_robot"] = false;
+  bridge["process"].push_back(process);
+  bridge["params"]["port"] = port;
+  root["components"].push_back(bridge);
+  YAML::Emitter out;
+  out << root;
+  return std::string(out.c_str());
+}
+
 }  // namespace
 
 std::unique_ptr<Launch> compose_or_report(const std::string& path, const LaunchOptions& options,
-                                          size_t robot_count) {
-  const auto text = launch_file_text(path, robot_count);
+                                          size_t robot_count, int live_port) {
+  auto text = launch_file_text(path, robot_count);
+  if (text && live_port >= 0) text = with_live_view(*text, path, live_port, options.process);
   if (!text) {
     std::fprintf(stderr, "scancrew: %s; nothing was started\n",
                  scancrew::log::printable(text.error()).c_str());
@@ -231,7 +257,7 @@ int run_launch(const RunOptions& o) {
                                    .robot_count = o.robot_count,
                                    .process = o.process,
                                    .robot_id = o.robot_id},
-                                  o.robot_count);
+                                  o.robot_count, o.live_port);
   if (!launch) return 2;
   MissionMonitor* monitor = launch->find_component<MissionMonitor>();
   if (!inputs_connected(*launch, monitor != nullptr && o.process == "run", o.launch_path)) return 2;
@@ -283,6 +309,12 @@ void add_launch_options(CLI::App* cmd, RunOptions& o, const char* out_help,
   cmd->add_option("--trace-events", o.trace_events,
                   "missions: callbacks kept for trace.json (24 bytes each; 0: no tracing)")
       ->capture_default_str();
+  cmd->add_option("--live", o.live_port,
+                  "live view in Foxglove: serve the topics on ws://localhost:PORT (default 8765; "
+                  "0: any free port; give it after the launch file; docs/visualization.md)")
+      ->expected(0, 1)
+      ->default_str("8765")
+      ->check(CLI::Range(0, 65535));
 }
 
 }  // namespace

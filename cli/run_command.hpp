@@ -31,6 +31,9 @@ struct RunOptions {
   std::string process = "run";
   uint32_t robot_id = 0;
   std::string rerun_of;  // scancrew rerun: the run directory it repeats (run.json)
+  // --live [PORT]: a foxglove_bridge (the live view, docs/visualization.md) appended to the
+  // graph, listening on PORT (0: any free port); -1: none
+  int live_port = -1;
 };
 
 // 0: ran (a mission: its run directory written); 2: the launch file was refused; 1: the
@@ -38,8 +41,9 @@ struct RunOptions {
 int run_launch(const RunOptions& options);
 
 // The launch file at `path` composed (a mission file with `robot_count` robots, 0: as it
-// says); nullptr after printing why not.
+// says; live_port ≥ 0: with a foxglove_bridge on that port, in options.process); nullptr after
+// printing why not.
 std::unique_ptr<Launch> compose_or_report(const std::string& path, const LaunchOptions& options,
-                                          size_t robot_count = 0);
+                                          size_t robot_count = 0, int live_port = -1);
 
 }  // namespace scancrew::cli
