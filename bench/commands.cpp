@@ -53,7 +53,7 @@ void add_perception(CLI::App& bench, CommandTable& table) {
   perception->add_option("--scene", o->scene_path, "scene to record in")->check(CLI::ExistingFile);
   perception
       ->add_option("--recording", o->recording,
-                   "play this .sclog (stereo, imu, pose_gt, depth_gt) instead of recording one")
+                   "play this .mcap (stereo, imu, pose_gt, depth_gt) instead of recording one")
       ->check(CLI::ExistingFile);
   perception->add_option("--robot", o->robot,
                          "play only this robot namespace's topics of a mission recording");

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   cli::add_eval_command(app, table);
   cli::add_keys_command(app, table);
   cli::add_report_command(app, table);
+  cli::add_convert_command(app, table);
 
   auto* bench = app.add_subcommand("bench", "benchmarks");
   bench->require_subcommand(1);

@@ -1,4 +1,4 @@
-// Writes the binary seeds of the fuzz corpus (fuzz/corpus/{codec,sclog,patch,envelope}): a
+// Writes the binary seeds of the fuzz corpus (fuzz/corpus/{codec,mcap,patch,envelope}): a
 // small valid input of each kind, which the fuzzers then mutate. The text seeds (launch and
 // scene files, PLY, run files) are copies of the project's own files. Run by
 // scripts/fuzz.sh --seeds.
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "components/recorder/log_file.hpp"
+#include "components/recorder/recording.hpp"
 #include "core/tsdf/patch_codec.hpp"
 #include "interfaces/codec.hpp"
 #include "interfaces/message_fields.hpp"
@@ -84,17 +84,26 @@ int main(int argc, char** argv) {
   seed.insert(seed.end(), raw.begin(), raw.end());
   write(corpus / "patch" / "two_blocks", seed);
 
-  // sclog: a recording with two topics and three messages
-  fs::create_directories(corpus / "sclog");
+  // mcap: a recording with two scancrew topics and a JSON channel, three messages in two
+  // small chunks, and its summary
+  fs::create_directories(corpus / "mcap");
   {
-    auto log = recorder::LogWriter::open((corpus / "sclog" / "three_messages").string());
+    auto log = recorder::RecordingWriter::open((corpus / "mcap" / "three_messages").string(),
+                                               {.chunk_bytes = 256});
     if (!log) return 1;
     const uint16_t sync = log->add_topic({"/team/step_sync", msg::StepSync::kTypeName});
     const uint16_t patches = log->add_topic({"/r1/tsdf_patch", msg::TsdfPatch::kTypeName});
+    const std::string schema = R"({"type":"object"})", json = R"({"a":1})";
+    const auto bytes = [](const std::string& s) {
+      return std::span(reinterpret_cast<const uint8_t*>(s.data()), s.size());
+    };
+    const uint16_t note = log->mcap().add_channel(
+        "/note", "json", log->mcap().add_schema("Note", "jsonschema", bytes(schema)));
     const std::vector<uint8_t> step = msg::encode(msg::StepSync{});
     const std::vector<uint8_t> map = msg::encode(patch);
     if (!log->write(sync, 1000, step) || !log->write(patches, 2000, map) ||
-        !log->write(sync, 3000, step) || !log->flush())
+        !log->mcap().write(note, 2500, 2500, bytes(json)) || !log->write(sync, 3000, step) ||
+        !log->close())
       return 1;
   }
   std::printf("make_seeds: seeds written under %s\n", corpus.c_str());

@@ -15,7 +15,7 @@ fi
 seconds="${1:-15}"
 shift || true
 harnesses=("$@")
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(codec sclog patch envelope launch scene ply run_files)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(codec mcap patch envelope launch scene ply run_files)
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz
 mkdir -p build/fuzz/crashes

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "bench/perception/sequence.hpp"
-#include "components/recorder/log_file.hpp"
+#include "components/recorder/recording.hpp"
 #include "components/stereo_depth/depth_error.hpp"
 #include "components/stereo_depth/stereo_depth.hpp"
 #include "components/stereo_depth/stereo_matcher.hpp"
@@ -85,9 +85,9 @@ class Evaluator {
         imu_(static_cast<int64_t>(vio_config_.imu_max_gap_s * 1e9)) {}
 
   Result<void, std::string> play(const std::string& path) {
-    auto opened = recorder::LogReader::open(path);
+    auto opened = recorder::RecordingReader::open(path);
     if (!opened) return make_unexpected(opened.error());
-    recorder::LogReader reader = std::move(opened).value();
+    recorder::RecordingReader reader = std::move(opened).value();
     msg::StereoFrame stereo;
     msg::Imu imu;
     msg::Odometry pose;
@@ -270,7 +270,7 @@ int run_perception_bench(const PerceptionBenchOptions& o) {
       temp_dir = std::filesystem::temp_directory_path() /
                  ("scancrew_bench_perception_" + std::to_string(::getpid()));
       std::filesystem::create_directories(temp_dir);
-      path = (temp_dir / "parking_lot.sclog").string();
+      path = (temp_dir / "parking_lot.mcap").string();
     } else {
       path = o.keep;
     }

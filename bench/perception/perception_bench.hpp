@@ -6,7 +6,7 @@
 //   1. record (unless --recording names one): a ground robot with a 320 x 256 camera at
 //      10 Hz drives a loop around the pillars of the parking lot (waypoint_driver on the
 //      ground-truth pose) until distance_m; stereo, IMU, ground-truth pose and depth go to
-//      a .sclog file, as `scancrew run` with the recorder would write it
+//      an MCAP file (.mcap), as `scancrew run` with the recorder would write it
 //   2. replay the file through the cores of the stereo and vio components (their default
 //      parameters), on one OpenCV thread, timing each frame; depth against the simulator's
 //      ground-truth depth within the stereo component's range, odometry against the
@@ -27,7 +27,7 @@ namespace scancrew::bench {
 
 struct PerceptionBenchOptions {
   std::string scene_path = "launch_cfg/scenes/parking_lot.yaml";
-  std::string recording;  // play this .sclog instead of recording one
+  std::string recording;  // play this .mcap instead of recording one
   std::string keep;       // keep the recording made here at this path
   std::string robot;      // play only this robot's topics (/robot/...); empty: all
   bool no_coast = false;  // the odometry with max_coast_s 0 (every failed frame a loss)

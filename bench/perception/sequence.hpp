@@ -13,7 +13,7 @@ namespace scancrew::bench {
 
 struct SequenceOptions {
   std::string scene_path;
-  std::string out_path;  // .sclog
+  std::string out_path;  // .mcap
   double distance_m = 62.0;
   uint32_t width = 320, height = 256;
   uint64_t seed = 1;

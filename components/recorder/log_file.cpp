@@ -19,13 +19,6 @@ constexpr size_t kRecordHeader = 1 + sizeof(uint32_t);
 constexpr uint32_t kMaxRecordBytes = 1u << 30;
 
 template <class T>
-void put(std::vector<uint8_t>& out, T v) {
-  const size_t at = out.size();
-  out.resize(at + sizeof(T));
-  std::memcpy(out.data() + at, &v, sizeof(T));
-}
-
-template <class T>
 bool get(std::span<const uint8_t> in, size_t& at, T& v) {
   if (in.size() - at < sizeof(T)) return false;
   std::memcpy(&v, in.data() + at, sizeof(T));
@@ -47,71 +40,8 @@ std::string errno_text() {
 
 }  // namespace
 
-void LogWriter::FileCloser::operator()(std::FILE* f) const {
-  (void)std::fclose(f);  // a close error shows in flush() before it
-}
 void LogReader::FileCloser::operator()(std::FILE* f) const {
   (void)std::fclose(f);  // read only: nothing to lose
-}
-
-LogWriter::LogWriter(std::unique_ptr<std::FILE, FileCloser> file, std::string path)
-    : file_(std::move(file)), path_(std::move(path)) {}
-
-LogWriter::~LogWriter() {
-  if (file_) (void)flush();
-}
-
-Result<LogWriter, std::string> LogWriter::open(const std::string& path) {
-  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
-  if (!file) return make_unexpected("cannot create the recording '" + path + "': " + errno_text());
-  LogWriter w(std::move(file), path);
-  std::vector<uint8_t> header(std::begin(kLogMagic), std::end(kLogMagic));
-  put(header, msg::kMessageFormatVersion);
-  if (std::fwrite(header.data(), 1, header.size(), w.file_.get()) != header.size())
-    return make_unexpected("cannot write the recording '" + path + "': " + errno_text());
-  w.bytes_ = header.size();
-  return w;
-}
-
-uint16_t LogWriter::add_topic(const LogTopic& topic) {
-  const auto index = static_cast<uint16_t>(topics_.size());
-  topics_.push_back(topic);
-  std::vector<uint8_t> payload;
-  put(payload, index);
-  for (const std::string* s : {&topic.name, &topic.type}) {
-    put(payload, static_cast<uint16_t>(s->size()));
-    payload.insert(payload.end(), s->begin(), s->end());
-  }
-  (void)record(kTopicRecord, payload);  // an error shows again at the first message
-  return index;
-}
-
-Result<void, std::string> LogWriter::write(uint16_t topic, int64_t receive_ns,
-                                           std::span<const uint8_t> message) {
-  scratch_.clear();
-  put(scratch_, topic);
-  put(scratch_, receive_ns);
-  scratch_.insert(scratch_.end(), message.begin(), message.end());
-  if (auto r = record(kMessageRecord, scratch_); !r) return r;
-  ++messages_;
-  return {};
-}
-
-Result<void, std::string> LogWriter::record(uint8_t kind, std::span<const uint8_t> payload) {
-  std::vector<uint8_t> header;
-  header.push_back(kind);
-  put(header, static_cast<uint32_t>(payload.size()));
-  if (std::fwrite(header.data(), 1, header.size(), file_.get()) != header.size() ||
-      std::fwrite(payload.data(), 1, payload.size(), file_.get()) != payload.size())
-    return make_unexpected("cannot write the recording '" + path_ + "': " + errno_text());
-  bytes_ += header.size() + payload.size();
-  return {};
-}
-
-Result<void, std::string> LogWriter::flush() {
-  if (std::fflush(file_.get()) != 0)
-    return make_unexpected("cannot write the recording '" + path_ + "': " + errno_text());
-  return {};
 }
 
 LogReader::LogReader(std::unique_ptr<std::FILE, FileCloser> file, std::string path, uint64_t size)
@@ -167,19 +97,6 @@ Result<std::optional<uint8_t>, std::string> LogReader::read_record(bool want_pay
   offset_ += kRecordHeader + length;
   return std::optional<uint8_t>{kind};
 }
-
-namespace {
-
-// A topic name: absolute, at most 256 bytes, printable ASCII without spaces (launch remaps
-// and bridge prefixes allow more than letters, digits and '_', so the reader asks no more).
-// A recording's names are echoed and become topics: control bytes (an escape sequence) or
-// an empty name are a corrupt or hostile file.
-bool valid_topic_name(const std::string& name) {
-  return name.size() >= 2 && name.size() <= 256 && name.front() == '/' &&
-         std::all_of(name.begin(), name.end(), [](char c) { return c > ' ' && c < 0x7f; });
-}
-
-}  // namespace
 
 Result<void, std::string> LogReader::take_topic() {
   size_t at = 0;
@@ -243,6 +160,29 @@ Result<void, std::string> LogReader::scan_topics() {
       if (auto t = take_topic(); !t) return make_unexpected(t.error());
   }
   return rewind();
+}
+
+Result<ConvertSummary, std::string> convert_sclog(const std::string& in, const std::string& out) {
+  auto reader = LogReader::open(in);
+  if (!reader) return make_unexpected(reader.error());
+  if (auto scanned = reader->scan_topics(); !scanned) return make_unexpected(scanned.error());
+  auto writer = RecordingWriter::open(out);
+  if (!writer) return make_unexpected(writer.error());
+  std::vector<uint16_t> channels;
+  for (const LogTopic& topic : reader->topics()) channels.push_back(writer->add_topic(topic));
+  ConvertSummary summary{.topics = channels.size()};
+  for (;;) {
+    auto entry = reader->next();
+    if (!entry) return make_unexpected(entry.error());
+    if (!*entry) break;
+    if (auto w = writer->write(channels[(*entry)->topic], (*entry)->receive_ns, (*entry)->message);
+        !w)
+      return make_unexpected(w.error());
+    ++summary.messages;
+  }
+  if (auto closed = writer->close(); !closed) return make_unexpected(closed.error());
+  summary.truncated = reader->truncated();
+  return summary;
 }
 
 }  // namespace scancrew::recorder

@@ -1,6 +1,7 @@
 #pragma once
 
-// The recording file (.sclog) that the recorder writes and the replay backend plays.
+// The retired recording format (.sclog), kept only to convert old files to MCAP
+// (`scancrew convert IN.sclog OUT.mcap`); the recorder writes MCAP (recording.hpp).
 //
 // Layout, little-endian:
 //   file header   "SCLOG1\n\0" (8 bytes), u32 message format version (msg::kMessageFormatVersion)
@@ -19,48 +20,10 @@
 #include <string>
 #include <vector>
 
+#include "components/recorder/recording.hpp"
 #include "core/result.hpp"
 
 namespace scancrew::recorder {
-
-struct LogTopic {
-  std::string name;  // absolute topic name, e.g. "/r1/stereo"
-  std::string type;  // message type name, e.g. "scancrew/StereoFrame"
-};
-
-class LogWriter {
- public:
-  static Result<LogWriter, std::string> open(const std::string& path);
-  LogWriter(LogWriter&&) noexcept = default;
-  LogWriter& operator=(LogWriter&&) noexcept = default;
-  ~LogWriter();
-
-  uint16_t add_topic(const LogTopic& topic);
-  Result<void, std::string> write(uint16_t topic, int64_t receive_ns,
-                                  std::span<const uint8_t> message);
-  Result<void, std::string> flush();
-  uint64_t messages() const { return messages_; }
-  uint64_t bytes() const { return bytes_; }
-
- private:
-  struct FileCloser {
-    void operator()(std::FILE* f) const;
-  };
-  LogWriter(std::unique_ptr<std::FILE, FileCloser> file, std::string path);
-  Result<void, std::string> record(uint8_t kind, std::span<const uint8_t> payload);
-
-  std::unique_ptr<std::FILE, FileCloser> file_;
-  std::string path_;
-  std::vector<LogTopic> topics_;
-  std::vector<uint8_t> scratch_;
-  uint64_t messages_ = 0, bytes_ = 0;
-};
-
-struct LogEntry {
-  uint16_t topic = 0;
-  int64_t receive_ns = 0;
-  std::span<const uint8_t> message;  // valid until the next call to next()
-};
 
 class LogReader {
  public:
@@ -96,6 +59,15 @@ class LogReader {
   uint64_t offset_ = 0;
   bool truncated_ = false;
 };
+
+struct ConvertSummary {
+  uint64_t topics = 0, messages = 0;
+  bool truncated = false;  // the .sclog was cut short: converted up to the cut
+};
+
+// Writes every topic and message of the .sclog `in` to the MCAP recording `out` (each topic a
+// scancrew channel, in the .sclog's order; receive times kept), as the recorder would have.
+Result<ConvertSummary, std::string> convert_sclog(const std::string& in, const std::string& out);
 
 inline constexpr char kLogMagic[8] = {'S', 'C', 'L', 'O', 'G', '1', '\n', '\0'};
 inline constexpr size_t kLogHeaderSize = sizeof(kLogMagic) + sizeof(uint32_t);

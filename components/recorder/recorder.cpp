@@ -22,7 +22,7 @@ std::string wire_type_names() {
 
 Recorder::Config Recorder::read_config(ParamReader& p) {
   Config c;
-  p.required("path", c.path).doc("the recording to write (overwritten)");
+  p.required("path", c.path).doc("the MCAP recording to write (overwritten)");
   p.optional_list("topics", c.topics)
       .doc("the topics to record: \"port\" or \"port:Type\" (required)");
   if (c.topics.empty()) p.report("topics", "required: the list of topics to record");
@@ -42,7 +42,7 @@ uint64_t Recorder::messages_written() const {
 }
 
 Result<void, std::string> Recorder::on_configure() {
-  auto writer = LogWriter::open(config_.path);
+  auto writer = RecordingWriter::open(config_.path);
   if (!writer) return make_unexpected(writer.error());
   writer_.emplace(std::move(writer).value());
   for (const std::string& spec : config_.topics)
@@ -86,14 +86,14 @@ Result<void, std::string> Recorder::add(const std::string& spec) {
   return {};
 }
 
-void Recorder::write(uint16_t topic, std::span<const uint8_t> bytes) {
-  if (auto r = writer_->write(topic, clock().now_ns(), bytes); !r && write_errors_++ == 0)
+void Recorder::write(uint16_t channel, std::span<const uint8_t> bytes) {
+  if (auto r = writer_->write(channel, clock().now_ns(), bytes); !r && write_errors_++ == 0)
     report_failure(r.error() + " (further errors are counted)");
 }
 
 void Recorder::on_deactivate() {
   std::lock_guard lock(mutex_);
-  if (auto r = writer_->flush(); !r) ++write_errors_;
+  if (auto r = writer_->close(); !r && write_errors_++ == 0) report_failure(r.error());
   SCANCREW_LOG_INFO("%s: %llu messages, %.1f MB in %s%s", qualified_name().c_str(),
                     static_cast<unsigned long long>(writer_->messages()),
                     static_cast<double>(writer_->bytes()) * 1e-6, config_.path.c_str(),

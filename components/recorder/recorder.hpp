@@ -1,8 +1,10 @@
 #pragma once
 
-// Recorder: writes chosen topics to a recording (.sclog, components/recorder/log_file.hpp)
-// so any session can be played again by the replay backend. Each message is stored whole
-// (header included) with the time the recorder received it, in arrival order.
+// Recorder: writes chosen topics to a recording (MCAP, components/recorder/recording.hpp)
+// so any session can be played again by the replay backend or opened in Foxglove Studio.
+// Each message is stored whole (header included) with the time the recorder received it,
+// in arrival order. The file is closed (summary and footer written) at deactivation; a
+// crash before it keeps every chunk flushed, at most flush_period_s old.
 //
 // Topics are ports, relative to the recorder's namespace or absolute ("/r1/stereo"). The
 // message type is taken from the topic when a component configured before the recorder
@@ -16,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-#include "components/recorder/log_file.hpp"
+#include "components/recorder/recording.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
 
@@ -25,7 +27,7 @@ namespace scancrew::recorder {
 class Recorder final : public Component {
  public:
   static constexpr std::string_view kDescription =
-      "writes chosen topics to a .sclog recording for the replay backend";
+      "writes chosen topics to an MCAP recording for the replay backend and Foxglove";
   struct Config {
     std::string path;                 // the recording to write (overwritten)
     std::vector<std::string> topics;  // "port" or "port:Type"
@@ -43,11 +45,11 @@ class Recorder final : public Component {
   Result<void, std::string> on_configure() override;
   void on_deactivate() override;
   Result<void, std::string> add(const std::string& spec);
-  void write(uint16_t topic, std::span<const uint8_t> bytes);
+  void write(uint16_t channel, std::span<const uint8_t> bytes);
 
   Config config_;
   mutable std::mutex mutex_;  // the writer, from every topic's callback
-  std::optional<LogWriter> writer_;
+  std::optional<RecordingWriter> writer_;
   std::vector<uint8_t> scratch_;
   uint64_t write_errors_ = 0;
 };

@@ -13,7 +13,7 @@ namespace scancrew::recorder {
 
 Replay::Config Replay::read_config(ParamReader& p) {
   Config c;
-  p.required("path", c.path).doc("the recording to play");
+  p.required("path", c.path).doc("the MCAP recording to play");
   p.choice("timing", c.timing, kReplayTimingNames)
       .doc(
           "relative (the recorded spacing, from the first tick) or absolute (when the clock "
@@ -29,7 +29,7 @@ Replay::Replay(ComponentContext context, Config config)
 
 Result<void, std::string> Replay::on_configure() {
   config_.path = input_path("path", config_.path);
-  auto reader = LogReader::open(config_.path);
+  auto reader = RecordingReader::open(config_.path);
   if (!reader) return make_unexpected(reader.error());
   reader_.emplace(std::move(reader).value());
   if (auto scanned = reader_->scan_topics(); !scanned) return scanned;
@@ -109,7 +109,7 @@ void Replay::tick() {
       }
       pending_ = *next;
     }
-    if (!publish_[pending_->topic]) {  // filtered out
+    if (pending_->topic >= publish_.size() || !publish_[pending_->topic]) {  // filtered out
       pending_.reset();
       continue;
     }
@@ -148,8 +148,8 @@ void Replay::on_deactivate() {
   else
     std::snprintf(why, sizeof why, "was due but its topic's pool stayed full");
   SCANCREW_LOG_WARN(
-      "%s: %s not played to its end: %llu messages played; the next (the record ending at byte "
-      "%llu) %s",
+      "%s: %s not played to its end: %llu messages played; the next (in the record ending at "
+      "byte %llu) %s",
       qualified_name().c_str(), config_.path.c_str(), static_cast<unsigned long long>(published_),
       static_cast<unsigned long long>(reader_->offset()), why);
 }

@@ -1,6 +1,6 @@
 #pragma once
 
-// Replay: the `replay` backend. Plays a recording (.sclog) written by the recorder,
+// Replay: the `replay` backend. Plays a recording (MCAP) written by the recorder,
 // publishing every message on the topic it was recorded from, whole (robot id, sequence
 // number and stamp as recorded; only publish_mono_ns is new), in recorded order and with
 // the recorded spacing in time, scaled by `rate`. A robot graph runs on it unchanged.
@@ -10,7 +10,8 @@
 //         absolute  each message goes out when the clock reaches its recorded receive time
 //                   (replaying beside a simulator on the same sim time).
 // A message that finds its topic's pool exhausted waits for the next tick: nothing is
-// skipped. A recording cut short plays up to the cut and says so.
+// skipped. A recording cut short plays up to the cut and says so. Channels that are not
+// scancrew's (message encoding other than "scancrew": Foxglove JSON, say) are passed over.
 
 #include <cstdint>
 #include <functional>
@@ -20,7 +21,7 @@
 #include <string_view>
 #include <vector>
 
-#include "components/recorder/log_file.hpp"
+#include "components/recorder/recording.hpp"
 #include "core/enum_names.hpp"
 #include "executors/component.hpp"
 #include "executors/params.hpp"
@@ -38,7 +39,7 @@ class Replay final : public Component {
   // not on a robot or the station: never charged compute (StepExecutor)
   static constexpr bool kWorld = true;
   static constexpr std::string_view kDescription =
-      "the replay backend: plays a .sclog recording on its recorded topics";
+      "the replay backend: plays an MCAP recording on its recorded topics";
   struct Config {
     std::string path;
     ReplayTiming timing = ReplayTiming::kRelative;  // relative | absolute
@@ -68,7 +69,7 @@ class Replay final : public Component {
   bool due(int64_t receive_ns, int64_t now_ns);
 
   Config config_;
-  std::optional<LogReader> reader_;
+  std::optional<RecordingReader> reader_;
   std::vector<PublishFn> publish_;  // per topic of the recording; empty when filtered out
   std::optional<LogEntry> pending_;
   std::optional<int64_t> start_ns_, first_receive_ns_;

@@ -11,6 +11,7 @@
 
 #include "components/recorder/log_file.hpp"
 #include "components/recorder/recorder.hpp"
+#include "components/recorder/recording.hpp"
 #include "components/recorder/replay.hpp"
 #include "executors/launch.hpp"
 #include "executors/registry.hpp"
@@ -55,7 +56,7 @@ class RecordReplay : public ::testing::Test {
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("scancrew_record_test_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
-    log_ = (dir_ / "session.sclog").string();
+    log_ = (dir_ / "session.mcap").string();
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -91,7 +92,7 @@ components:
       ground_camera_rate_hz: 5
       imu_rate_hz: 50
   - {name: recorder, type: recorder, params: {path: )" +
-           log_ + R"(, topics: [stereo, depth, imu, pose_gt]}}
+           log_ + R"(, flush_period_s: 0.1, topics: [stereo, depth, imu, pose_gt]}}
   - {name: collector, type: test_collector}
 )";
   }
@@ -142,34 +143,61 @@ TEST_F(RecordReplay, ReplayReproducesTheRecordedMessagesExactly) {
   }
 }
 
+// A recording cut in the middle (a crash: chunks are flushed every 0.1 s here) plays the
+// messages of its whole chunks, each topic's a prefix of what was recorded, and says so.
 TEST_F(RecordReplay, ACutRecordingPlaysUpToTheCut) {
-  ASSERT_NE(run(record_launch()), nullptr);
-  const auto size = fs::file_size(log_);
-  fs::resize_file(log_, size - 100);  // the last record loses its tail
+  Collector* live = run(record_launch());
+  ASSERT_NE(live, nullptr);
+  const auto recorded = live->received;
+  const uint64_t total = find<Recorder>()->messages_written();
+  fs::resize_file(log_, fs::file_size(log_) / 2);
   Collector* played = run(replay_launch());
   ASSERT_NE(played, nullptr);
   auto* replay = find<Replay>();
   EXPECT_TRUE(replay->finished());
   EXPECT_TRUE(replay->truncated());
-  EXPECT_GT(replay->published(), 50u);
+  EXPECT_GT(replay->published(), 10u);
+  EXPECT_LT(replay->published(), total);
+  for (const auto& [port, messages] : played->received) {
+    ASSERT_LE(messages.size(), recorded.at(port).size()) << port;
+    for (size_t i = 0; i < messages.size(); ++i)
+      EXPECT_EQ(messages[i], recorded.at(port)[i]) << port << " message " << i;
+  }
 }
 
 TEST_F(RecordReplay, BadRecordingsAndBadTopicsAreClearErrors) {
   { std::ofstream(log_) << "not a recording at all"; }
   auto launch = Launch::from_string(replay_launch(), "replay.yaml");
   ASSERT_FALSE(launch);
-  EXPECT_NE(launch.error().front().find("is not a scancrew recording"), std::string::npos)
+  EXPECT_NE(launch.error().front().find("is not an MCAP recording"), std::string::npos)
       << launch.error().front();
 
   {  // another format version
-    std::ofstream out(log_, std::ios::binary);
-    out.write(kLogMagic, sizeof kLogMagic);
-    const uint32_t version = msg::kMessageFormatVersion + 1;
-    out.write(reinterpret_cast<const char*>(&version), sizeof version);
+    auto writer = RecordingWriter::open(log_);
+    ASSERT_TRUE(writer) << writer.error();
+    const std::string text = schema_text("scancrew/Imu");
+    const uint16_t schema =
+        writer->mcap().add_schema("scancrew/Imu", kSchemaEncoding,
+                                  {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+    (void)writer->mcap().add_channel(
+        "/r1/imu", kMessageEncoding, schema,
+        {{"format_version", std::to_string(msg::kMessageFormatVersion + 1)}});
+    ASSERT_TRUE(writer->close());
   }
   launch = Launch::from_string(replay_launch(), "replay.yaml");
   ASSERT_FALSE(launch);
   EXPECT_NE(launch.error().front().find("format version"), std::string::npos)
+      << launch.error().front();
+
+  {  // the retired format: the error says how to convert it
+    std::ofstream out(log_, std::ios::binary);
+    out.write(kLogMagic, sizeof kLogMagic);
+  }
+  launch = Launch::from_string(replay_launch(), "replay.yaml");
+  ASSERT_FALSE(launch);
+  EXPECT_NE(launch.error().front().find("is a .sclog recording (retired): convert it with "
+                                        "`scancrew convert "),
+            std::string::npos)
       << launch.error().front();
 
   std::string text = record_launch();
@@ -193,11 +221,11 @@ TEST_F(RecordReplay, BadRecordingsAndBadTopicsAreClearErrors) {
 // escape sequence) is a corrupt file, refused before anything plays (Step 12's review).
 TEST_F(RecordReplay, ATopicNameThatIsNoTopicNameIsRefused) {
   {
-    auto writer = LogWriter::open(log_);
+    auto writer = RecordingWriter::open(log_);
     ASSERT_TRUE(writer) << writer.error();
     const uint16_t t = writer->add_topic({"/r1/\x1b[2Jimu", "scancrew/Imu"});
     ASSERT_TRUE(writer->write(t, 1, std::vector<uint8_t>(4, 0)));
-    ASSERT_TRUE(writer->flush());
+    ASSERT_TRUE(writer->close());
   }
   auto launch = Launch::from_string(replay_launch(), "replay.yaml");
   ASSERT_FALSE(launch);
@@ -209,13 +237,13 @@ TEST_F(RecordReplay, ATopicNameThatIsNoTopicNameIsRefused) {
 // ended as if it had played it all; the replay now says it stopped short, and where.
 TEST_F(RecordReplay, AReplayStoppedShortSaysWhere) {
   {
-    auto writer = LogWriter::open(log_);
+    auto writer = RecordingWriter::open(log_);
     ASSERT_TRUE(writer) << writer.error();
     const uint16_t t = writer->add_topic({"/r1/imu", "scancrew/Imu"});
     const std::vector<uint8_t> imu = msg::encode(msg::Imu{});
     ASSERT_TRUE(writer->write(t, 1'000, imu));
     ASSERT_TRUE(writer->write(t, INT64_MAX, imu));
-    ASSERT_TRUE(writer->flush());
+    ASSERT_TRUE(writer->close());
   }
   auto launch = Launch::from_string(replay_launch(), "replay.yaml");
   ASSERT_TRUE(launch) << launch.error().front();
@@ -226,8 +254,8 @@ TEST_F(RecordReplay, AReplayStoppedShortSaysWhere) {
   ASSERT_NE(replay, nullptr);
   EXPECT_EQ(replay->published(), 1U);
   EXPECT_FALSE(replay->finished());
-  EXPECT_NE(err.find("not played to its end: 1 messages played; the next (the record ending at "
-                     "byte"),
+  EXPECT_NE(err.find("not played to its end: 1 messages played; the next (in the record ending "
+                     "at byte"),
             std::string::npos)
       << err;
 }
@@ -236,14 +264,14 @@ TEST_F(RecordReplay, AReplayStoppedShortSaysWhere) {
 // the replay now reports it as lost data (scancrew run exits 4).
 TEST_F(RecordReplay, MessagesThatDoNotDecodeAreReportedAsLost) {
   {
-    auto writer = LogWriter::open(log_);
+    auto writer = RecordingWriter::open(log_);
     ASSERT_TRUE(writer) << writer.error();
     const uint16_t t = writer->add_topic({"/r1/imu", "scancrew/Imu"});
     std::vector<uint8_t> imu = msg::encode(msg::Imu{});
     ASSERT_TRUE(writer->write(t, 1'000, imu));
     imu.push_back(0);  // a trailing byte: not an Imu
     ASSERT_TRUE(writer->write(t, 2'000, imu));
-    ASSERT_TRUE(writer->flush());
+    ASSERT_TRUE(writer->close());
   }
   auto launch = Launch::from_string(replay_launch(), "replay.yaml");
   ASSERT_TRUE(launch) << launch.error().front();
@@ -257,6 +285,118 @@ TEST_F(RecordReplay, MessagesThatDoNotDecodeAreReportedAsLost) {
   const auto failures = (*launch)->graph().failures();
   ASSERT_EQ(failures.size(), 1U);
   EXPECT_NE(failures.front().find("1 message(s)"), std::string::npos) << failures.front();
+}
+
+// Channels of other encodings (the Foxglove JSON channels beside ours) are passed over.
+TEST_F(RecordReplay, ReplayPassesOverChannelsThatAreNotOurs) {
+  {
+    auto writer = RecordingWriter::open(log_);
+    ASSERT_TRUE(writer) << writer.error();
+    const uint16_t t = writer->add_topic({"/r1/imu", "scancrew/Imu"});
+    const std::string schema = R"({"type":"object"})", json = R"({"message":"hello"})";
+    const auto bytes = [](const std::string& text) {
+      return std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size());
+    };
+    const uint16_t log = writer->mcap().add_channel(
+        "/r1/log", "json", writer->mcap().add_schema("foxglove.Log", "jsonschema", bytes(schema)));
+    const std::vector<uint8_t> imu = msg::encode(msg::Imu{});
+    ASSERT_TRUE(writer->write(t, 1'000, imu));
+    ASSERT_TRUE(writer->mcap().write(log, 1'500, 1'500, bytes(json)));
+    ASSERT_TRUE(writer->write(t, 2'000, imu));
+    ASSERT_TRUE(writer->close());
+  }
+  Collector* played = run(replay_launch());
+  ASSERT_NE(played, nullptr);
+  auto* replay = find<Replay>();
+  EXPECT_TRUE(replay->finished());
+  EXPECT_EQ(replay->published(), 2U);
+  EXPECT_EQ(replay->decode_errors(), 0U);
+  EXPECT_EQ(played->received["imu"].size(), 2U);
+}
+
+struct Stored {
+  uint16_t topic;
+  int64_t receive_ns;
+  std::vector<uint8_t> message;
+};
+
+// Every scancrew topic and message of a recording.
+std::pair<std::vector<LogTopic>, std::vector<Stored>> read_all(const std::string& path) {
+  auto reader = RecordingReader::open(path);
+  EXPECT_TRUE(reader) << reader.error();
+  EXPECT_TRUE(reader->scan_topics());
+  std::vector<Stored> entries;
+  for (;;) {
+    auto e = reader->next();
+    EXPECT_TRUE(e) << e.error();
+    if (!e || !*e) break;
+    entries.push_back(
+        {(*e)->topic, (*e)->receive_ns, {(*e)->message.begin(), (*e)->message.end()}});
+  }
+  EXPECT_FALSE(reader->truncated());
+  return {reader->topics(), entries};
+}
+
+// The retired .sclog layout (components/recorder/log_file.hpp), as the recorder wrote it.
+void write_sclog(const std::string& path, const std::vector<LogTopic>& topics,
+                 const std::vector<Stored>& entries) {
+  std::vector<uint8_t> out(std::begin(kLogMagic), std::end(kLogMagic));
+  const auto put = [&out]<class T>(T v) {
+    const auto* b = reinterpret_cast<const uint8_t*>(&v);
+    out.insert(out.end(), b, b + sizeof v);
+  };
+  const auto record = [&](uint8_t kind, const std::vector<uint8_t>& payload) {
+    out.push_back(kind);
+    put(static_cast<uint32_t>(payload.size()));
+    out.insert(out.end(), payload.begin(), payload.end());
+  };
+  put(msg::kMessageFormatVersion);
+  for (size_t i = 0; i < topics.size(); ++i) {
+    std::vector<uint8_t> payload = {static_cast<uint8_t>(i), 0};
+    for (const std::string* s : {&topics[i].name, &topics[i].type}) {
+      payload.push_back(static_cast<uint8_t>(s->size()));
+      payload.push_back(0);
+      payload.insert(payload.end(), s->begin(), s->end());
+    }
+    record(1, payload);
+  }
+  for (const Stored& e : entries) {
+    std::vector<uint8_t> payload = {static_cast<uint8_t>(e.topic), 0};
+    const auto* t = reinterpret_cast<const uint8_t*>(&e.receive_ns);
+    payload.insert(payload.end(), t, t + sizeof e.receive_ns);
+    payload.insert(payload.end(), e.message.begin(), e.message.end());
+    record(2, payload);
+  }
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(out.data()), static_cast<std::streamsize>(out.size()));
+}
+
+// `scancrew convert` of an old recording gives what the recorder now writes directly: the
+// same topics, types, receive times and message bytes, in the same order.
+TEST_F(RecordReplay, ConvertingAnSclogGivesTheDirectRecording) {
+  ASSERT_NE(run(record_launch()), nullptr);
+  const auto [topics, entries] = read_all(log_);
+  ASSERT_EQ(topics.size(), 4U);
+  ASSERT_GT(entries.size(), 60U);
+  const std::string old = (dir_ / "old.sclog").string(), converted = (dir_ / "new.mcap").string();
+  write_sclog(old, topics, entries);
+  const auto summary = convert_sclog(old, converted);
+  ASSERT_TRUE(summary) << summary.error();
+  EXPECT_EQ(summary->topics, 4U);
+  EXPECT_EQ(summary->messages, entries.size());
+  EXPECT_FALSE(summary->truncated);
+  const auto [topics2, entries2] = read_all(converted);
+  ASSERT_EQ(topics2.size(), topics.size());
+  for (size_t i = 0; i < topics.size(); ++i) {
+    EXPECT_EQ(topics2[i].name, topics[i].name);
+    EXPECT_EQ(topics2[i].type, topics[i].type);
+  }
+  ASSERT_EQ(entries2.size(), entries.size());
+  for (size_t i = 0; i < entries.size(); ++i) {
+    EXPECT_EQ(entries2[i].topic, entries[i].topic) << i;
+    EXPECT_EQ(entries2[i].receive_ns, entries[i].receive_ns) << i;
+    EXPECT_EQ(entries2[i].message, entries[i].message) << i;
+  }
 }
 
 }  // namespace

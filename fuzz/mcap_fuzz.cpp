@@ -1,17 +1,18 @@
-// The .sclog recording reader (components/recorder/log_file.hpp) as replay uses it: open,
-// collect the topics, then every message, each decoded as its topic's type.
+// The MCAP recording reader (components/recorder/recording.hpp, mcap_reader.hpp) as replay
+// uses it: open, collect the scancrew channels, then every message, each decoded as its
+// topic's type.
 #include <span>
 
-#include "components/recorder/log_file.hpp"
+#include "components/recorder/recording.hpp"
 #include "fuzz/fuzz_input.hpp"
 #include "interfaces/codec.hpp"
 #include "interfaces/message_fields.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  using scancrew::recorder::LogReader;
-  auto reader = LogReader::open(scancrew::fuzz::as_file(data, size));
+  using scancrew::recorder::RecordingReader;
+  auto reader = RecordingReader::open(scancrew::fuzz::as_file(data, size));
   if (!reader) return 0;
-  if (!reader->scan_topics() || !reader->rewind()) return 0;
+  if (!reader->scan_topics()) return 0;
   for (int records = 0; records < 100000; ++records) {
     auto entry = reader->next();
     if (!entry || !*entry) break;
