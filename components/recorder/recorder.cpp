@@ -30,6 +30,12 @@ Recorder::Config Recorder::read_config(ParamReader& p) {
       .doc("per topic: messages waiting to be written");
   p.optional("flush_period_s", c.flush_period_s, {0.01, 3600})
       .doc("a crash loses at most this much of the recording (s)");
+  p.optional("foxglove_channels", c.foxglove_channels)
+      .doc(
+          "also write Foxglove JSON views of poses, paths, clusters and images "
+          "(/foxglove/<topic>)");
+  p.optional("foxglove_image_rate_hz", c.foxglove_image_rate_hz, {0.01, 1000})
+      .doc("at most this many images per Foxglove image channel per second of stamps");
   return c;
 }
 
@@ -45,6 +51,7 @@ Result<void, std::string> Recorder::on_configure() {
   auto writer = RecordingWriter::open(config_.path);
   if (!writer) return make_unexpected(writer.error());
   writer_.emplace(std::move(writer).value());
+  if (config_.foxglove_channels) foxglove_.emplace("world", config_.foxglove_image_rate_hz);
   for (const std::string& spec : config_.topics)
     if (auto added = add(spec); !added) return added;
   create_timer(std::chrono::nanoseconds(static_cast<int64_t>(config_.flush_period_s * 1e9)),
@@ -72,12 +79,20 @@ Result<void, std::string> Recorder::add(const std::string& spec) {
   }
   const uint16_t index = writer_->add_topic({name, type});
   const SubscriptionQos qos{.depth = config_.queue_depth};
+  const std::optional<size_t> view =
+      foxglove_ ? foxglove_->add(writer_->mcap(), name, type) : std::nullopt;
   const bool known = msg::with_wire_message(type, [&]<class T>() {
-    create_subscription<T>(port, qos, [this, index](Sample<T>&& sample) {
+    create_subscription<T>(port, qos, [this, index, view](Sample<T>&& sample) {
       std::lock_guard lock(mutex_);
       scratch_.clear();
       msg::encode(*sample, scratch_);
-      write(index, scratch_);
+      const int64_t now_ns = clock().now_ns();
+      write(index, now_ns, scratch_);
+      if constexpr (kHasFoxgloveView<T>)
+        if (view)
+          if (auto r = foxglove_->write(writer_->mcap(), *view, *sample, now_ns);
+              !r && write_errors_++ == 0)
+            report_failure(r.error() + " (further errors are counted)");
     });
   });
   if (!known)
@@ -86,8 +101,8 @@ Result<void, std::string> Recorder::add(const std::string& spec) {
   return {};
 }
 
-void Recorder::write(uint16_t channel, std::span<const uint8_t> bytes) {
-  if (auto r = writer_->write(channel, clock().now_ns(), bytes); !r && write_errors_++ == 0)
+void Recorder::write(uint16_t channel, int64_t receive_ns, std::span<const uint8_t> bytes) {
+  if (auto r = writer_->write(channel, receive_ns, bytes); !r && write_errors_++ == 0)
     report_failure(r.error() + " (further errors are counted)");
 }
 

@@ -51,7 +51,9 @@ uint16_t RecordingWriter::add_topic(const LogTopic& topic) {
 Result<void, std::string> RecordingWriter::write(uint16_t channel, int64_t receive_ns,
                                                  std::span<const uint8_t> message) {
   const auto t = static_cast<uint64_t>(receive_ns);
-  return mcap_.write(channel, t, t, message);
+  auto written = mcap_.write(channel, t, t, message);
+  if (written) ++messages_;
+  return written;
 }
 
 Result<RecordingReader, std::string> RecordingReader::open(const std::string& path) {

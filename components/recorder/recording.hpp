@@ -63,7 +63,8 @@ class RecordingWriter {
                                   std::span<const uint8_t> message);
   Result<void, std::string> flush() { return mcap_.flush(); }
   Result<void, std::string> close() { return mcap_.close(); }
-  uint64_t messages() const { return mcap_.messages(); }
+  // The messages write() wrote (our channels; not those added through mcap()).
+  uint64_t messages() const { return messages_; }
   uint64_t bytes() const { return mcap_.bytes(); }
   McapWriter& mcap() { return mcap_; }
 
@@ -71,6 +72,7 @@ class RecordingWriter {
   explicit RecordingWriter(McapWriter mcap) : mcap_(std::move(mcap)) {}
   McapWriter mcap_;
   std::vector<std::pair<std::string, uint16_t>> schemas_;  // type name, schema id
+  uint64_t messages_ = 0;
 };
 
 // Reads the scancrew channels of an MCAP file, in file order (the recorded arrival order).

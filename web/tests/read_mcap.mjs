@@ -5,9 +5,11 @@
 // that scancrew channels carry scancrew-codec schemas of their format version; that the
 // statistics match the summary and the messages read (per channel); that both readers see
 // the same channels and messages; and that log times never decrease within a channel.
-// Exits 0 printing "read_mcap: ok ...", else 1 with why.
+// Foxglove channels ("json" messages, "jsonschema" schemas named foxglove.*): every message
+// parses as JSON and has the top-level fields its schema requires; with --foxglove, at least
+// one such channel must carry messages. Exits 0 printing "read_mcap: ok ...", else 1 with why.
 //
-//   node web/tests/read_mcap.mjs FILE.mcap
+//   node web/tests/read_mcap.mjs FILE.mcap [--foxglove]
 import { open, readFile } from "node:fs/promises";
 import { McapIndexedReader, McapStreamReader } from "@mcap/core";
 import { decompress } from "fzstd";
@@ -48,6 +50,11 @@ function checkSchemas(channels, schemas, what) {
     check(channel.schemaId !== 0 && schemas.has(channel.schemaId),
       `${what}: channel ${channel.topic} has no schema`);
     const schema = schemas.get(channel.schemaId);
+    if (channel.messageEncoding === "json") {
+      check(schema.encoding === "jsonschema" && schema.name.startsWith("foxglove."),
+        `${what}: channel ${channel.topic}: json with schema ${schema.name} (${schema.encoding})`);
+      continue;
+    }
     if (channel.messageEncoding !== "scancrew") continue;
     const version = channel.metadata.get("format_version");
     check(version !== undefined, `${what}: channel ${channel.topic} has no format_version`);
@@ -58,6 +65,32 @@ function checkSchemas(channels, schemas, what) {
     check(text.includes(`type: ${schema.name}\n`) && text.includes(`format_version: ${version}\n`),
       `${what}: schema ${schema.name}: data does not name its type and version: ${text}`);
   }
+}
+
+// Each json message parses and has its schema's required top-level fields; the number of
+// json messages.
+function checkJson(messages, channels, schemas) {
+  const required = new Map();
+  for (const [id, channel] of channels) {
+    if (channel.messageEncoding !== "json") continue;
+    const schema = JSON.parse(new TextDecoder().decode(schemas.get(channel.schemaId).data));
+    required.set(id, schema.required ?? []);
+  }
+  let n = 0;
+  for (const m of messages) {
+    const fields = required.get(m.channelId);
+    if (!fields) continue;
+    const topic = channels.get(m.channelId).topic;
+    let value;
+    try {
+      value = JSON.parse(new TextDecoder().decode(m.data));
+    } catch (e) {
+      fail(`${topic}: a message is not JSON: ${e.message}`);
+    }
+    for (const f of fields) check(f in value, `${topic}: a message lacks '${f}'`);
+    n += 1;
+  }
+  return n;
 }
 
 async function readIndexed(path) {
@@ -132,6 +165,10 @@ async function main() {
   const streamedCounts = tally(streamed.messages, "stream");
   for (const [id, n] of indexedCounts)
     check(streamedCounts.get(id) === n, `stream: channel ${id}: another message count`);
+
+  const jsonMessages = checkJson(messages, reader.channelsById, reader.schemasById);
+  if (process.argv.includes("--foxglove"))
+    check(jsonMessages > 0, "--foxglove: no message on a Foxglove (json) channel");
 
   const topics = [...reader.channelsById.values()]
     .map((c) => `${c.topic} ${indexedCounts.get(c.id) ?? 0n}`)
