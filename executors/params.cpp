@@ -443,8 +443,8 @@ void ParamReader::note_effective(std::string_view key, std::string type, std::st
       known.default_value = std::move(yaml_text);
       return;
     }
-  effective_.push_back({.key = std::string(key), .type = std::move(type),
-                        .default_value = std::move(yaml_text)});
+  effective_.push_back(
+      {.key = std::string(key), .type = std::move(type), .default_value = std::move(yaml_text)});
 }
 
 ParamDoc ParamReader::read_list(std::string_view key, std::vector<double>& value, size_t size,
