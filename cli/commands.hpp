@@ -19,7 +19,7 @@ void add_scenegen_command(CLI::App& app, CommandTable& table);
 void add_eval_command(CLI::App& app, CommandTable& table);
 void add_keys_command(CLI::App& app, CommandTable& table);  // keys init, keys add
 void add_report_command(CLI::App& app, CommandTable& table);
-void add_convert_command(CLI::App& app, CommandTable& table);  // .sclog to .mcap
+void add_convert_command(CLI::App& app, CommandTable& table);    // .sclog to .mcap
 void add_explore_command(CLI::App& bench, CommandTable& table);  // bench explore
 
 }  // namespace scancrew::cli

@@ -4,8 +4,8 @@
 
 #include <cstdio>
 #include <fstream>
-#include <utility>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "cli/build_info.hpp"
 #include "cli/mission_compose.hpp"
