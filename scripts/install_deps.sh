@@ -14,6 +14,8 @@ PACKAGES=(
   # keys: DDS-Security's certificates and signed documents); iproute2, iptables and
   # libnetfilter-queue (the network-fault runs: namespaces, loss, delay)
   libfastrtps-dev libfastcdr-dev libssl-dev iproute2 iptables libnetfilter-queue-dev
+  # fuser: scripts/clean_dds_shm.sh (Fast DDS shared memory a killed process left)
+  psmisc
   # iceoryx (side-by-side peer of `scancrew bench ipc`); Debian's iceoryx headers include
   # <sys/acl.h> without depending on libacl1-dev
   iceoryx libiceoryx-posh-dev libiceoryx-hoofs-dev libacl1-dev

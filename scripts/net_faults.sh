@@ -64,6 +64,8 @@ if [ "$fault" = netem ]; then
 fi
 bin=$(realpath "$bin")
 mkdir -p "$out"
+# shared-memory files a killed process of an earlier run left behind (clean_dds_shm.sh)
+"$(dirname "$0")/clean_dds_shm.sh" >&2
 out=$(realpath "$out")
 # a rerun into the same folder: the logs of the last run go first, or the loop below would read
 # the last run's sim time before the new simulator has truncated its log

@@ -35,6 +35,8 @@ while [ $# -gt 0 ]; do
 done
 [ -x "$bin" ] || { echo "run_team_processes.sh: no scancrew binary at $bin" >&2; exit 2; }
 mkdir -p "$out"
+# shared-memory files a killed process of an earlier run left behind (clean_dds_shm.sh)
+"$(dirname "$0")/clean_dds_shm.sh" >&2
 if [ "$secure" = 1 ]; then
   rm -rf "$out/keys"
   places=(--sim)
